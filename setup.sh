@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# One-shot set-up on Debian 12: install what is missing, build (Release) into
+# build/, and run the main analysis on a bundled example.
+#   bash setup.sh            install + build + demo
+#   bash setup.sh --no-demo  install + build only
+#   BUILD_DIR=... CMAKE_ARGS=... bash setup.sh   other build directory / flags
+set -euo pipefail
+cd "$(dirname "$0")"
+
+packages=(build-essential cmake pkg-config libeigen3-dev libfftw3-dev libnlopt-cxx-dev
+          libsundials-dev libginac-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
+          libgtest-dev libgmock-dev libbenchmark-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup.sh: installing ${missing[*]}"
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+build_dir=${BUILD_DIR:-build}
+# shellcheck disable=SC2086
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release ${CMAKE_ARGS:-}
+cmake --build "$build_dir" -j "$(nproc)"
+
+if [ "${1:-}" != "--no-demo" ]; then
+  "$build_dir/rmhb" solve pendulum --set theta0=1.5 --order 25 --validate
+fi
