@@ -1,0 +1,237 @@
+#include "rmhb/collocation_residual.h"
+
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+namespace rmhb {
+
+int HarmonicBalanceProblem::num_unknown_frequencies() const {
+  int n = 0;
+  for (bool u : unknown_frequency) n += u;
+  return n;
+}
+
+void HarmonicBalanceProblem::Validate() const {
+  system.Validate();
+  if (frequencies.empty()) throw std::invalid_argument("no base frequency given");
+  for (double w : frequencies)
+    if (!std::isfinite(w) || w <= 0)
+      throw std::invalid_argument("base frequencies must be finite and > 0, got " +
+                                  std::to_string(w));
+  if (!unknown_frequency.empty() && unknown_frequency.size() != frequencies.size())
+    throw std::invalid_argument("unknown_frequency must have one flag per base frequency");
+}
+
+CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
+                                         const HarmonicBasis& basis, const Sampling& sampling)
+    : problem_(problem), basis_(basis) {
+  problem.Validate();
+  if (basis.num_bases() != static_cast<int>(problem.frequencies.size()))
+    throw std::invalid_argument("the basis has " + std::to_string(basis.num_bases()) +
+                                " bases but the problem " +
+                                std::to_string(problem.frequencies.size()) + " frequencies");
+  transform_ = std::make_unique<SpectralTransform>(basis, sampling);
+  n_ = problem.system.num_variables();
+  C_ = basis.num_coefficients();
+  M_ = transform_->num_samples();
+
+  unknown_index_.assign(basis.num_bases(), -1);
+  int nu = 0;
+  for (int b = 0; b < basis.num_bases(); ++b)
+    if (!problem.unknown_frequency.empty() && problem.unknown_frequency[b]) unknown_index_[b] = nu++;
+  num_unknowns_ = n_ * C_ + nu;
+
+  // Compile: slots and time functions get dense indices; terms keep lists.
+  std::map<Slot, int> slot_index;
+  std::map<TimeFunction, int> time_index;
+  int row = 0;
+  for (const auto& eq : problem.system.equations()) {
+    CompiledEquation ce;
+    ce.first_row = row;
+    ce.balance_constant = eq.balance_constant;
+    row += eq.balance_constant ? C_ : C_ - 1;
+    for (const auto& [mono, c] : eq.lhs.terms()) {
+      CompiledTerm t{c, -1, {}};
+      if (mono.time.kind != TimeFunction::Kind::kOne) {
+        auto [it, fresh] = time_index.try_emplace(mono.time, static_cast<int>(time_samples_.size()));
+        if (fresh) {
+          Eigen::VectorXd v(M_);
+          for (long s = 0; s < M_; ++s) {
+            const double a = transform_->Phase(mono.time.harmonic, s);
+            v(s) = mono.time.kind == TimeFunction::Kind::kCos ? std::cos(a) : std::sin(a);
+          }
+          time_samples_.push_back(std::move(v));
+        }
+        t.time = it->second;
+      }
+      for (const auto& [slot, power] : mono.factors) {
+        auto [it, fresh] = slot_index.try_emplace(slot, static_cast<int>(slots_.size()));
+        if (fresh) slots_.push_back({slot.variable, slot.derivative});
+        t.factors.push_back({it->second, power});
+        bool listed = false;
+        for (int s : ce.slots) listed |= s == it->second;
+        if (!listed) ce.slots.push_back(it->second);
+      }
+      ce.terms.push_back(std::move(t));
+    }
+    equations_.push_back(std::move(ce));
+  }
+  num_residuals_ = row + static_cast<int>(problem.conditions.size());
+
+  slot_samples_.assign(slots_.size(), Eigen::VectorXd(M_));
+  work_.resize(M_);
+  term_.resize(M_);
+  proj_.resize(C_);
+  coef_.resize(C_);
+  block_.resize(C_, C_);
+  rates_.resize(basis.size());
+}
+
+void CollocationResidual::Frequencies(const Eigen::VectorXd& x, std::vector<double>* w) const {
+  *w = problem_.frequencies;
+  for (int b = 0; b < basis_.num_bases(); ++b)
+    if (unknown_index_[b] >= 0) (*w)[b] = x(n_ * C_ + unknown_index_[b]);
+}
+
+Eigen::VectorXd CollocationResidual::Pack(const Eigen::MatrixXd& coefficients,
+                                          const std::vector<double>& frequencies) const {
+  Eigen::VectorXd x(num_unknowns_);
+  for (int j = 0; j < n_; ++j) x.segment(j * C_, C_) = coefficients.row(j).transpose();
+  for (int b = 0; b < basis_.num_bases(); ++b)
+    if (unknown_index_[b] >= 0) x(n_ * C_ + unknown_index_[b]) = frequencies[b];
+  return x;
+}
+
+void CollocationResidual::Unpack(const Eigen::VectorXd& x, Eigen::MatrixXd* coefficients,
+                                 std::vector<double>* frequencies) const {
+  coefficients->resize(n_, C_);
+  for (int j = 0; j < n_; ++j) coefficients->row(j) = x.segment(j * C_, C_).transpose();
+  Frequencies(x, frequencies);
+}
+
+void CollocationResidual::EvaluateSamples(const CompiledEquation& eq, int slot, double* out) const {
+  Eigen::Map<Eigen::VectorXd> result(out, M_);
+  result.setZero();
+  Eigen::VectorXd& term = const_cast<Eigen::VectorXd&>(term_);
+  for (const auto& t : eq.terms) {
+    double c = t.coefficient;
+    int differentiated = -1;
+    if (slot >= 0) {
+      for (size_t f = 0; f < t.factors.size(); ++f)
+        if (t.factors[f].first == slot) differentiated = static_cast<int>(f);
+      if (differentiated < 0) continue;
+      c *= t.factors[differentiated].second;
+    }
+    if (t.time >= 0) term = c * time_samples_[t.time];
+    else term.setConstant(c);
+    for (size_t f = 0; f < t.factors.size(); ++f) {
+      int power = t.factors[f].second - (static_cast<int>(f) == differentiated ? 1 : 0);
+      const Eigen::VectorXd& z = slot_samples_[t.factors[f].first];
+      for (int p = 0; p < power; ++p) term.array() *= z.array();
+    }
+    result += term;
+  }
+}
+
+bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
+                                   Eigen::MatrixXd* jacobian) {
+  std::vector<double> w;
+  Frequencies(x, &w);
+  for (int k = 0; k < basis_.size(); ++k) rates_[k] = basis_.Frequency(k, w);
+
+  // Samples of every slot: z_j = E X_j, z_j' = E D(w) X_j.
+  for (size_t s = 0; s < slots_.size(); ++s) {
+    const double* X = x.data() + slots_[s].variable * C_;
+    if (slots_[s].derivative == 0) {
+      transform_->Synthesize(X, slot_samples_[s].data());
+    } else {
+      coef_(0) = 0;
+      for (int k = 1; k < basis_.size(); ++k) {
+        coef_(2 * k - 1) = rates_[k] * X[2 * k];
+        coef_(2 * k) = -rates_[k] * X[2 * k - 1];
+      }
+      transform_->Synthesize(coef_.data(), slot_samples_[s].data());
+    }
+  }
+
+  residual->resize(num_residuals_);
+  if (jacobian) jacobian->setZero(num_residuals_, num_unknowns_);
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    const int skip = eq.balance_constant ? 0 : 1;
+    const int rows = C_ - skip;
+    EvaluateSamples(eq, -1, work_.data());
+    if (!work_.allFinite()) return false;
+    transform_->Project(work_.data(), proj_.data());
+    residual->segment(eq.first_row, rows) = proj_.tail(rows);
+    if (!jacobian) continue;
+    for (int s : eq.slots) {
+      EvaluateSamples(eq, s, work_.data());
+      const int j = slots_[s].variable;
+      transform_->Analyze(work_.data());
+      block_.setZero();
+      transform_->AddMultiplicationMatrix(1.0, slots_[s].derivative ? rates_.data() : nullptr,
+                                          block_);
+      jacobian->block(eq.first_row, j * C_, rows, C_) += block_.bottomRows(rows);
+      if (slots_[s].derivative == 0) continue;
+      // z' = sum_b w_b d z / d theta_b: a column per unknown frequency.
+      for (int b = 0; b < basis_.num_bases(); ++b) {
+        if (unknown_index_[b] < 0) continue;
+        const double* X = x.data() + j * C_;
+        coef_(0) = 0;
+        for (int k = 1; k < basis_.size(); ++k) {
+          const double rate = basis_.harmonic(k)[b];
+          coef_(2 * k - 1) = rate * X[2 * k];
+          coef_(2 * k) = -rate * X[2 * k - 1];
+        }
+        transform_->Synthesize(coef_.data(), term_.data());
+        term_.array() *= work_.array();
+        transform_->Project(term_.data(), proj_.data());
+        jacobian->col(n_ * C_ + unknown_index_[b]).segment(eq.first_row, rows) += proj_.tail(rows);
+      }
+    }
+  }
+
+  // Point conditions at t = 0: z(0) = a_0 + sum a_k, z'(0) = sum rate_k b_k.
+  if (!problem_.conditions.empty()) {
+    Eigen::VectorXd z(n_), dz(n_), gz(n_), gdz(n_);
+    for (int j = 0; j < n_; ++j) {
+      const double* X = x.data() + j * C_;
+      z(j) = X[0];
+      dz(j) = 0;
+      for (int k = 1; k < basis_.size(); ++k) {
+        z(j) += X[2 * k - 1];
+        dz(j) += rates_[k] * X[2 * k];
+      }
+    }
+    int row = num_residuals_ - static_cast<int>(problem_.conditions.size());
+    for (const auto& cond : problem_.conditions) {
+      gz.setZero();
+      gdz.setZero();
+      (*residual)(row) = cond.function(z, dz, jacobian ? &gz : nullptr, jacobian ? &gdz : nullptr);
+      if (jacobian) {
+        for (int j = 0; j < n_; ++j) {
+          if (gz(j) != 0) {
+            (*jacobian)(row, j * C_) += gz(j);
+            for (int k = 1; k < basis_.size(); ++k) (*jacobian)(row, j * C_ + 2 * k - 1) += gz(j);
+          }
+          if (gdz(j) != 0) {
+            for (int k = 1; k < basis_.size(); ++k)
+              (*jacobian)(row, j * C_ + 2 * k) += gdz(j) * rates_[k];
+            for (int b = 0; b < basis_.num_bases(); ++b) {
+              if (unknown_index_[b] < 0) continue;
+              double d = 0;
+              for (int k = 1; k < basis_.size(); ++k) d += basis_.harmonic(k)[b] * x(j * C_ + 2 * k);
+              (*jacobian)(row, n_ * C_ + unknown_index_[b]) += gdz(j) * d;
+            }
+          }
+        }
+      }
+      ++row;
+    }
+  }
+  return residual->allFinite() && (!jacobian || jacobian->allFinite());
+}
+
+}  // namespace rmhb

@@ -1,0 +1,95 @@
+#ifndef RMHB_COLLOCATION_RESIDUAL_H_
+#define RMHB_COLLOCATION_RESIDUAL_H_
+
+// The RHB equations (METHOD.md eq. 11) as a nonlinear problem:
+//   E* g(t_j, z(t_j), z'(t_j)) = 0   for every equation g,
+// z = E X sampled by an inverse FFT, projected back by a forward FFT, plus
+// the point conditions. Unknowns: every variable's coefficients, then the
+// unknown base frequencies. The analytic Jacobian uses the Toeplitz-plus-
+// Hankel structure of E* diag(dg/dz) E, so its cost is O(K^2) per nonzero
+// partial derivative instead of a dense M x K product.
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "rmhb/harmonic_basis.h"
+#include "rmhb/nonlinear_solver.h"
+#include "rmhb/point_condition.h"
+#include "rmhb/polynomial_system.h"
+#include "rmhb/sampling.h"
+#include "rmhb/spectral_transform.h"
+
+namespace rmhb {
+
+struct HarmonicBalanceProblem {
+  PolynomialSystem system;
+  // Base frequencies: their values, or initial guesses where unknown.
+  std::vector<double> frequencies;
+  std::vector<bool> unknown_frequency;  // empty: all known
+  std::vector<PointCondition> conditions;
+
+  int num_unknown_frequencies() const;
+  // Throws std::invalid_argument naming what is wrong.
+  void Validate() const;
+};
+
+class CollocationResidual : public NonlinearProblem {
+ public:
+  CollocationResidual(const HarmonicBalanceProblem& problem, const HarmonicBasis& basis,
+                      const Sampling& sampling);
+
+  int num_unknowns() const override { return num_unknowns_; }
+  int num_residuals() const override { return num_residuals_; }
+  bool Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
+                Eigen::MatrixXd* jacobian) override;
+
+  Eigen::VectorXd Pack(const Eigen::MatrixXd& coefficients,
+                       const std::vector<double>& frequencies) const;
+  void Unpack(const Eigen::VectorXd& x, Eigen::MatrixXd* coefficients,
+              std::vector<double>* frequencies) const;
+
+ private:
+  struct CompiledTerm {
+    double coefficient;
+    int time;  // index into time_samples_, -1 for 1
+    std::vector<std::pair<int, int>> factors;  // (slot index, power)
+  };
+  struct CompiledEquation {
+    std::vector<CompiledTerm> terms;
+    std::vector<int> slots;  // slots appearing in the equation
+    int first_row;           // in the residual vector
+    bool balance_constant;
+  };
+  struct SlotInfo {
+    int variable;
+    int derivative;
+  };
+
+  void Frequencies(const Eigen::VectorXd& x, std::vector<double>* w) const;
+  // p = sum over terms of d(term)/d(slot), or the whole equation if slot < 0.
+  void EvaluateSamples(const CompiledEquation& eq, int slot, double* out) const;
+
+  const HarmonicBalanceProblem& problem_;
+  HarmonicBasis basis_;
+  std::unique_ptr<SpectralTransform> transform_;
+  int n_;  // variables
+  int C_;  // coefficients per variable
+  long M_;
+  int num_unknowns_;
+  int num_residuals_;
+  std::vector<int> unknown_index_;  // base -> unknown slot or -1
+  std::vector<SlotInfo> slots_;
+  std::vector<CompiledEquation> equations_;
+  std::vector<Eigen::VectorXd> time_samples_;
+  // Work buffers, reused across evaluations (no allocation in the loop).
+  std::vector<Eigen::VectorXd> slot_samples_;
+  Eigen::VectorXd work_, term_, proj_, coef_;
+  Eigen::MatrixXd block_;
+  std::vector<double> rates_;
+};
+
+}  // namespace rmhb
+
+#endif  // RMHB_COLLOCATION_RESIDUAL_H_

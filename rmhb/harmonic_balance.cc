@@ -1,0 +1,132 @@
+#include "rmhb/harmonic_balance.h"
+
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+
+namespace rmhb {
+
+std::string HarmonicBalanceOptions::IsValid() const {
+  if (order < 1) return "order must be >= 1 (got " + std::to_string(order) + ")";
+  if (order > 20000) return "order " + std::to_string(order) + " is unreasonably large";
+  for (int m : samples)
+    if (m < 1) return "samples must be >= 1 (got " + std::to_string(m) + ")";
+  return solver.IsValid();
+}
+
+HarmonicBasis MakeBasis(int num_bases, const HarmonicBalanceOptions& options) {
+  if (num_bases == 1) return HarmonicBasis::Periodic(options.order);
+  return options.shape == BasisShape::kBox ? HarmonicBasis::Box(num_bases, options.order)
+                                           : HarmonicBasis::Diamond(num_bases, options.order);
+}
+
+std::string HarmonicBalanceSummary::BriefReport() const {
+  std::ostringstream out;
+  out << ToString(rule) << " order " << order << ", samples";
+  for (int m : samples) out << " " << m;
+  out << (alias_free ? " (alias-free)" : " (ALIASED)") << ": " << ToString(solver.status)
+      << " in " << solver.iterations << " iterations, max|F| " << solver.final_residual << ", "
+      << seconds * 1e3 << " ms";
+  return out.str();
+}
+
+std::string HarmonicBalanceSummary::FullReport() const {
+  std::ostringstream out;
+  out.precision(16);
+  out << "Harmonic balance (" << ToString(rule) << "), degree phi = " << degree << ", order "
+      << order << "\n";
+  out << "  sampling: " << sampling << "; alias-free minimum";
+  for (int m : alias_free_samples) out << " " << m;
+  out << (alias_free ? " (alias-free: equivalent to classical HB)"
+                     : " (below the bound: aliasing, non-physical solutions possible)")
+      << "\n";
+  out << "  " << solver.FullReport();
+  if (solution) {
+    out << "  frequencies:";
+    for (double w : solution->frequencies()) out << " " << w;
+    out << "\n";
+  }
+  return out.str();
+}
+
+namespace {
+
+HarmonicBalanceSummary SolveAtOrder(const HarmonicBalanceProblem& problem,
+                                    const HarmonicSolution& guess,
+                                    const HarmonicBalanceOptions& options) {
+  HarmonicBalanceSummary summary;
+  summary.order = options.order;
+  summary.rule = options.rule;
+  summary.degree = problem.system.Degree();
+  const int d = static_cast<int>(problem.frequencies.size());
+  const HarmonicBasis basis = MakeBasis(d, options);
+  summary.samples = SamplesForRule(problem.system, basis, options.rule, &summary.alias_free_samples);
+  if (!options.samples.empty()) {
+    if (static_cast<int>(options.samples.size()) != d)
+      throw std::invalid_argument("give one sample count per base frequency");
+    summary.samples = options.samples;
+  }
+  for (int b = 0; b < d; ++b)
+    summary.alias_free = summary.alias_free && summary.samples[b] >= summary.alias_free_samples[b];
+  if (!summary.alias_free && !options.allow_aliasing && options.rule != SamplingRule::kHdhb)
+    throw std::invalid_argument(
+        "samples below the alias-free bound (" + std::to_string(summary.alias_free_samples[0]) +
+        "); aliasing gives non-physical solutions. Use the hdhb method or allow aliasing explicitly");
+  const Sampling sampling = d == 1 ? Sampling::Uniform(summary.samples[0])
+                                   : Sampling::Torus(summary.samples);
+  summary.sampling = sampling.description;
+
+  CollocationResidual residual(problem, basis, sampling);
+  std::vector<double> w = guess.frequencies();
+  for (int b = 0; b < d; ++b)
+    if (problem.unknown_frequency.empty() || !problem.unknown_frequency[b])
+      w[b] = problem.frequencies[b];
+  const HarmonicSolution start = guess.OnBasis(basis);
+  Eigen::VectorXd x = residual.Pack(start.coefficients(), w);
+  summary.solver = SolveNonlinear(residual, &x, options.solver);
+  Eigen::MatrixXd coefficients;
+  residual.Unpack(x, &coefficients, &w);
+  summary.solution.emplace(basis, w, coefficients, problem.system.variables());
+  return summary;
+}
+
+}  // namespace
+
+HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& problem,
+                                            const HarmonicSolution& initial_guess,
+                                            const HarmonicBalanceOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (std::string why = options.IsValid(); !why.empty())
+    throw std::invalid_argument("invalid options: " + why);
+  problem.Validate();
+  if (initial_guess.num_variables() != problem.system.num_variables())
+    throw std::invalid_argument("initial guess has " + std::to_string(initial_guess.num_variables()) +
+                                " variables, the system " +
+                                std::to_string(problem.system.num_variables()));
+
+  HarmonicSolution guess = initial_guess;
+  // Warm start through coarser orders: cheap solves that bring the guess into
+  // the quadratic convergence region of the large system.
+  if (options.order_continuation && options.samples.empty() && options.rule == SamplingRule::kRhb) {
+    std::vector<int> orders;
+    for (int o = options.order / 3; o >= 8 && o > initial_guess.basis().order(); o /= 3)
+      orders.insert(orders.begin(), o);
+    for (int o : orders) {
+      HarmonicBalanceOptions coarse = options;
+      coarse.order = o;
+      coarse.order_continuation = false;
+      coarse.solver.acceptable_residual = 1e300;  // a truncated solve is only a guess
+      coarse.solver.step_tolerance = std::max(options.solver.step_tolerance, 1e-10);
+      HarmonicBalanceSummary s = SolveAtOrder(problem, guess, coarse);
+      if (s.solver.status == SolverStatus::kConverged ||
+          s.solver.status == SolverStatus::kNoConvergence)
+        if (s.solution && s.solver.final_residual < s.solver.initial_residual)
+          guess = *s.solution;
+    }
+  }
+  HarmonicBalanceSummary summary = SolveAtOrder(problem, guess, options);
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace rmhb

@@ -1,0 +1,68 @@
+#ifndef RMHB_HARMONIC_BALANCE_H_
+#define RMHB_HARMONIC_BALANCE_H_
+
+// The library's front door:
+//   HarmonicBalanceSummary s = SolveHarmonicBalance(problem, guess, options);
+// picks the basis, the sampling (RHB alias-free by default, or HDHB / AFT),
+// solves, and returns the solution with a report. Non-convergence is a
+// status in the summary; misuse (bad options, malformed problem) throws
+// std::invalid_argument with a message saying what is wrong.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rmhb/collocation_residual.h"
+#include "rmhb/harmonic_basis.h"
+#include "rmhb/harmonic_solution.h"
+#include "rmhb/nonlinear_solver.h"
+#include "rmhb/sampling.h"
+
+namespace rmhb {
+
+enum class BasisShape { kDiamond, kBox };
+
+struct HarmonicBalanceOptions {
+  int order = 10;  // N for one base, p for several
+  BasisShape shape = BasisShape::kDiamond;
+  SamplingRule rule = SamplingRule::kRhb;
+  // Explicit samples per base (overrides the rule). Below the alias-free
+  // count this is refused unless allow_aliasing is set: aliasing creates
+  // non-physical solutions (METHOD.md s.2).
+  std::vector<int> samples;
+  bool allow_aliasing = false;
+  // Solve at lower orders first (N/4, N/2, ...) and warm-start: a high-order
+  // solve then needs one or two iterations of the large system.
+  bool order_continuation = true;
+  SolverOptions solver;
+
+  std::string IsValid() const;  // empty when valid
+};
+
+struct HarmonicBalanceSummary {
+  SolverSummary solver;
+  std::optional<HarmonicSolution> solution;
+  std::string sampling;             // description of the grid used
+  std::vector<int> samples;         // per base
+  std::vector<int> alias_free_samples;
+  bool alias_free = true;
+  int degree = 0;                   // phi
+  int order = 0;
+  SamplingRule rule = SamplingRule::kRhb;
+  double seconds = 0;
+
+  bool converged() const { return solver.converged(); }
+  std::string BriefReport() const;
+  std::string FullReport() const;
+};
+
+HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& problem,
+                                            const HarmonicSolution& initial_guess,
+                                            const HarmonicBalanceOptions& options);
+
+// The basis the options describe for `num_bases` base frequencies.
+HarmonicBasis MakeBasis(int num_bases, const HarmonicBalanceOptions& options);
+
+}  // namespace rmhb
+
+#endif  // RMHB_HARMONIC_BALANCE_H_

@@ -1,0 +1,51 @@
+#ifndef RMHB_HARMONIC_BASIS_H_
+#define RMHB_HARMONIC_BASIS_H_
+
+// The truncated Fourier basis: a set of harmonics k (integer vectors over the
+// base frequencies w), each contributing cos(k.w t) and sin(k.w t). Only one
+// of k, -k is kept (first non-zero entry positive), so every frequency
+// appears once. Coefficient layout per variable:
+//   [a_0, a_1, b_1, ..., a_{K-1}, b_{K-1}]
+// with harmonic 0 first: 2K - 1 numbers.
+
+#include <string>
+#include <vector>
+
+namespace rmhb {
+
+class HarmonicBasis {
+ public:
+  // k = 0, 1, ..., order: the classical periodic basis.
+  static HarmonicBasis Periodic(int order);
+  // |k_1| + ... + |k_d| <= order (the paper's RMHB index set).
+  static HarmonicBasis Diamond(int num_bases, int order);
+  // max |k_i| <= order.
+  static HarmonicBasis Box(int num_bases, int order);
+
+  int num_bases() const { return num_bases_; }
+  int size() const { return static_cast<int>(harmonics_.size()); }  // K, with k = 0
+  int num_coefficients() const { return 2 * size() - 1; }
+  int order() const { return order_; }
+  const std::string& shape() const { return shape_; }
+  const std::vector<int>& harmonic(int k) const { return harmonics_[k]; }
+  const std::vector<std::vector<int>>& harmonics() const { return harmonics_; }
+  // Largest |k_base| in the set: what the alias bound needs per base.
+  int Reach(int base) const;
+  // Index of a harmonic in the set (either sign), or -1.
+  int Find(const std::vector<int>& k) const;
+
+  // Angular frequency k.w of harmonic index k.
+  double Frequency(int k, const std::vector<double>& w) const;
+
+ private:
+  HarmonicBasis(int num_bases, int order, std::string shape)
+      : num_bases_(num_bases), order_(order), shape_(std::move(shape)) {}
+  int num_bases_;
+  int order_;
+  std::string shape_;
+  std::vector<std::vector<int>> harmonics_;
+};
+
+}  // namespace rmhb
+
+#endif  // RMHB_HARMONIC_BASIS_H_

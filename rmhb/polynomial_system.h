@@ -1,0 +1,76 @@
+#ifndef RMHB_POLYNOMIAL_SYSTEM_H_
+#define RMHB_POLYNOMIAL_SYSTEM_H_
+
+// A polynomial differential-algebraic system in implicit form
+//   g_i(t, z, z') = 0,  i = 0..n-1,
+// polynomial in the states z and their first derivatives z'. Implicit form
+// keeps second derivatives inside nonlinear terms (asymmetric pendulum) and
+// algebraic constraints (u^2 + v^2 - 1 = 0) without special cases.
+
+#include <string>
+#include <vector>
+
+#include "rmhb/polynomial.h"
+
+namespace rmhb {
+
+enum class VariableRole {
+  kState,      // a variable of the user's original equations (or its derivative)
+  kAuxiliary,  // introduced by the recast (s = sin(theta), u = 1/R, ...)
+};
+
+struct Variable {
+  std::string name;
+  VariableRole role = VariableRole::kState;
+  std::string definition;  // for auxiliaries, e.g. "sin(theta)"; documentation only
+};
+
+struct Equation {
+  Polynomial lhs;  // lhs = 0
+  // A variable defined only through its derivative (s' = c v for s = sin(theta))
+  // is fixed up to a constant. The paper (METHOD.md s.4, eq. 24) drops the
+  // constant-term balance of such an equation and pins the value at t = 0
+  // with a condition instead.
+  bool balance_constant = true;
+};
+
+class PolynomialSystem {
+ public:
+  int AddVariable(const std::string& name, VariableRole role = VariableRole::kState,
+                  const std::string& definition = "");
+  int AddEquation(Polynomial lhs, bool balance_constant = true);
+
+  // Convenience for the builder API: sys.Var("x") or sys.Var(0).
+  Polynomial Var(int j) const;
+  Polynomial Var(const std::string& name) const;
+  Polynomial D(const std::string& name) const;
+  int IndexOf(const std::string& name) const;  // -1 if absent
+
+  int num_variables() const { return static_cast<int>(variables_.size()); }
+  int num_equations() const { return static_cast<int>(equations_.size()); }
+  const std::vector<Variable>& variables() const { return variables_; }
+  const std::vector<Equation>& equations() const { return equations_; }
+  std::vector<std::string> names() const;
+
+  // phi: the polynomial degree, z' counted like z.
+  int Degree() const;
+  // Largest |harmonic| along base `base` of any explicit time function.
+  int ForcingReach(int base) const;
+  // Smallest number of samples along base `base` such that collocation with
+  // `reach` harmonics along that base is alias-free (Theorem 1, extended to
+  // forcing): M > max over terms of (degree + 1) reach + forcing reach.
+  int AliasFreeSamples(int reach, int base = 0) const;
+  // Throws std::invalid_argument naming the problem if the system is not
+  // square or references a variable that does not exist.
+  void Validate() const;
+
+  std::string ToString() const;
+
+ private:
+  std::vector<Variable> variables_;
+  std::vector<Equation> equations_;
+};
+
+}  // namespace rmhb
+
+#endif  // RMHB_POLYNOMIAL_SYSTEM_H_

@@ -1,0 +1,56 @@
+#ifndef RMHB_SAMPLING_H_
+#define RMHB_SAMPLING_H_
+
+// Where the collocation points lie. All harmonic balance variants are one
+// collocation framework that differs only in the number of samples M
+// (METHOD.md s.3): HDHB uses M = 2N+1 (aliases), RHB the smallest alias-free
+// M > (phi+1)N (Theorem 1), HB-AFT a power of two >= 2 phi N + 1.
+//
+// A sampling is a uniform grid over a torus of `grid.size()` angles phi_g in
+// [0, 2 pi). Base frequency i moves angle g at the integer rate
+// embedding[g][i], so the time function of harmonic k is exp(i (E k).phi).
+//  - periodic: one angle, E = [1];
+//  - torus (quasi-periodic, default): one angle per base, E = identity;
+//  - GCD rule (Theorem 2): one angle over T = 2 pi / gcd(w), E = [r_1 ... r_d]
+//    with w_i = r_i gcd.
+
+#include <string>
+#include <vector>
+
+#include "rmhb/harmonic_basis.h"
+#include "rmhb/polynomial_system.h"
+
+namespace rmhb {
+
+enum class SamplingRule {
+  kRhb,   // smallest alias-free count, rounded up to an FFT-friendly size
+  kHdhb,  // 2N+1 per dimension: Hall's high-dimensional HB, aliases
+  kAft,   // power of two >= 2 phi N + 1: classical alternating frequency-time
+};
+
+const char* ToString(SamplingRule rule);
+// Parses "rhb", "hdhb", "aft"; throws std::invalid_argument otherwise.
+SamplingRule ParseSamplingRule(const std::string& name);
+
+struct Sampling {
+  std::vector<int> grid;                    // points per torus angle
+  std::vector<std::vector<int>> embedding;  // [grid angle][base]
+  std::string description;
+
+  long total() const;
+  static Sampling Uniform(int samples);
+  static Sampling Torus(const std::vector<int>& samples);
+  static Sampling Gcd(int samples, const std::vector<int>& ratios);
+};
+
+// Smallest n >= m whose prime factors are 2, 3, 5, 7 (fast FFTW sizes).
+int FftFriendlySize(int m);
+
+// Samples along each base for `rule` on this system and basis; the per-base
+// alias-free minimum is written to `alias_free` when given.
+std::vector<int> SamplesForRule(const PolynomialSystem& system, const HarmonicBasis& basis,
+                                SamplingRule rule, std::vector<int>* alias_free = nullptr);
+
+}  // namespace rmhb
+
+#endif  // RMHB_SAMPLING_H_

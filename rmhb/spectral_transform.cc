@@ -1,0 +1,202 @@
+#include "rmhb/spectral_transform.h"
+
+#include <fftw3.h>
+
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+
+namespace rmhb {
+namespace {
+
+// FFTW's planner is not thread-safe; execution is.
+std::mutex& PlannerMutex() {
+  static std::mutex m;
+  return m;
+}
+
+inline int Mod(long a, int m) {
+  long r = a % m;
+  return static_cast<int>(r < 0 ? r + m : r);
+}
+
+}  // namespace
+
+SpectralTransform::SpectralTransform(const HarmonicBasis& basis, const Sampling& sampling)
+    : basis_(basis), sampling_(sampling), dims_(static_cast<int>(sampling.grid.size())) {
+  if (dims_ < 1 || dims_ > 3) throw std::invalid_argument("SpectralTransform: 1 to 3 grid angles");
+  if (static_cast<int>(sampling.embedding.size()) != dims_)
+    throw std::invalid_argument("SpectralTransform: embedding rows must match grid angles");
+  for (const auto& row : sampling.embedding)
+    if (static_cast<int>(row.size()) != basis.num_bases())
+      throw std::invalid_argument("SpectralTransform: embedding columns must match base count");
+  total_ = sampling.total();
+  if (total_ > 200'000'000L)
+    throw std::invalid_argument("SpectralTransform: " + std::to_string(total_) +
+                                " samples requested; refusing (memory)");
+  half_total_ = total_ / sampling.grid.back() * (sampling.grid.back() / 2 + 1);
+
+  // Each harmonic must own a distinct grid frequency (up to sign), else the
+  // grid cannot tell its cos and sin apart from another's.
+  std::set<std::vector<int>> seen;
+  for (int k = 0; k < basis.size(); ++k) {
+    std::vector<int> g(dims_), neg(dims_);
+    for (int d = 0; d < dims_; ++d) {
+      long v = 0;
+      for (int i = 0; i < basis.num_bases(); ++i) v += long(sampling.embedding[d][i]) * basis.harmonic(k)[i];
+      grid_index_.push_back(static_cast<int>(v));
+      g[d] = Mod(v, sampling.grid[d]);
+      neg[d] = Mod(-v, sampling.grid[d]);
+    }
+    if (k > 0 && g == neg)
+      throw std::invalid_argument("SpectralTransform: harmonic " + std::to_string(k) +
+                                  " sits at the Nyquist frequency of the grid; use more samples");
+    if (seen.count(g) || seen.count(neg))
+      throw std::invalid_argument("SpectralTransform: two harmonics share a grid frequency; "
+                                  "the sampling is too coarse for the basis");
+    seen.insert(g);
+  }
+
+  real_ = fftw_alloc_real(total_);
+  spectrum_ = reinterpret_cast<std::complex<double>*>(fftw_alloc_complex(half_total_));
+  analysed_.resize(half_total_);
+  std::lock_guard<std::mutex> lock(PlannerMutex());
+  auto* c = reinterpret_cast<fftw_complex*>(spectrum_);
+  forward_ = fftw_plan_dft_r2c(dims_, sampling.grid.data(), real_, c, FFTW_ESTIMATE);
+  backward_ = fftw_plan_dft_c2r(dims_, sampling.grid.data(), c, real_, FFTW_ESTIMATE);
+  if (!forward_ || !backward_) throw std::runtime_error("SpectralTransform: FFTW planning failed");
+}
+
+SpectralTransform::~SpectralTransform() {
+  std::lock_guard<std::mutex> lock(PlannerMutex());
+  if (forward_) fftw_destroy_plan(static_cast<fftw_plan>(forward_));
+  if (backward_) fftw_destroy_plan(static_cast<fftw_plan>(backward_));
+  fftw_free(real_);
+  fftw_free(spectrum_);
+}
+
+long SpectralTransform::HalfIndex(const int* r) const {
+  long idx = 0;
+  for (int d = 0; d < dims_ - 1; ++d) idx = idx * sampling_.grid[d] + r[d];
+  return idx * (sampling_.grid.back() / 2 + 1) + r[dims_ - 1];
+}
+
+std::complex<double> SpectralTransform::SpectrumAt(const int* g) const {
+  int r[3], n[3];
+  for (int d = 0; d < dims_; ++d) {
+    r[d] = Mod(g[d], sampling_.grid[d]);
+    n[d] = Mod(-long(g[d]), sampling_.grid[d]);
+  }
+  const int last = sampling_.grid.back();
+  if (r[dims_ - 1] <= last / 2) return analysed_[HalfIndex(r)];
+  return std::conj(analysed_[HalfIndex(n)]);
+}
+
+void SpectralTransform::Synthesize(const double* x, double* samples) {
+  std::memset(static_cast<void*>(spectrum_), 0, sizeof(std::complex<double>) * half_total_);
+  const int last = sampling_.grid.back();
+  spectrum_[0] += x[0];
+  for (int k = 1; k < basis_.size(); ++k) {
+    const std::complex<double> c(0.5 * x[2 * k - 1], -0.5 * x[2 * k]);
+    int r[3], n[3];
+    for (int d = 0; d < dims_; ++d) {
+      r[d] = Mod(grid_index_[k * dims_ + d], sampling_.grid[d]);
+      n[d] = Mod(-long(grid_index_[k * dims_ + d]), sampling_.grid[d]);
+    }
+    if (r[dims_ - 1] <= last / 2) spectrum_[HalfIndex(r)] += c;
+    if (n[dims_ - 1] <= last / 2) spectrum_[HalfIndex(n)] += std::conj(c);
+  }
+  fftw_execute(static_cast<fftw_plan>(backward_));
+  std::memcpy(samples, real_, sizeof(double) * total_);
+}
+
+void SpectralTransform::Project(const double* samples, double* x) {
+  std::memcpy(real_, samples, sizeof(double) * total_);
+  fftw_execute(static_cast<fftw_plan>(forward_));
+  const double inv = 1.0 / double(total_);
+  const int last = sampling_.grid.back();
+  x[0] = spectrum_[0].real() * inv;
+  for (int k = 1; k < basis_.size(); ++k) {
+    int r[3], n[3];
+    for (int d = 0; d < dims_; ++d) {
+      r[d] = Mod(grid_index_[k * dims_ + d], sampling_.grid[d]);
+      n[d] = Mod(-long(grid_index_[k * dims_ + d]), sampling_.grid[d]);
+    }
+    const std::complex<double> c = r[dims_ - 1] <= last / 2 ? spectrum_[HalfIndex(r)]
+                                                             : std::conj(spectrum_[HalfIndex(n)]);
+    x[2 * k - 1] = 2.0 * c.real() * inv;
+    x[2 * k] = -2.0 * c.imag() * inv;
+  }
+}
+
+void SpectralTransform::Analyze(const double* samples) {
+  std::memcpy(real_, samples, sizeof(double) * total_);
+  fftw_execute(static_cast<fftw_plan>(forward_));
+  const double inv = 1.0 / double(total_);
+  for (long i = 0; i < half_total_; ++i) analysed_[i] = spectrum_[i] * inv;
+}
+
+void SpectralTransform::AddMultiplicationMatrix(double scale, const double* rate,
+                                                Eigen::Ref<Eigen::MatrixXd> out) const {
+  const int K = basis_.size();
+  int sum[3], diff[3];
+  // Column l of E*diag(p)E: product of p with cos/sin of harmonic l, whose
+  // component at harmonic k is c = (P[k-l] +- P[k+l]) / 2 (or /2i).
+  for (int l = 0; l < K; ++l) {
+    const int* gl = &grid_index_[l * dims_];
+    for (int k = 0; k < K; ++k) {
+      const int* gk = &grid_index_[k * dims_];
+      for (int d = 0; d < dims_; ++d) {
+        sum[d] = gk[d] + gl[d];
+        diff[d] = gk[d] - gl[d];
+      }
+      const std::complex<double> pd = SpectrumAt(diff);
+      std::complex<double> ccos, csin;
+      if (l == 0) {
+        ccos = pd;
+      } else {
+        const std::complex<double> ps = SpectrumAt(sum);
+        ccos = 0.5 * (pd + ps);
+        csin = std::complex<double>(0, -0.5) * (pd - ps);
+      }
+      // Rows: a_0 = Re c; a_k = 2 Re c, b_k = -2 Im c.
+      auto put = [&](int col, std::complex<double> c, double w) {
+        if (w == 0.0) return;
+        if (k == 0) {
+          out(0, col) += w * c.real();
+        } else {
+          out(2 * k - 1, col) += w * 2.0 * c.real();
+          out(2 * k, col) += w * -2.0 * c.imag();
+        }
+      };
+      if (!rate) {
+        put(l == 0 ? 0 : 2 * l - 1, ccos, scale);
+        if (l > 0) put(2 * l, csin, scale);
+      } else if (l > 0) {
+        // d/dt(a cos) = -rate a sin; d/dt(b sin) = rate b cos.
+        put(2 * l - 1, csin, -scale * rate[l]);
+        put(2 * l, ccos, scale * rate[l]);
+      }
+    }
+  }
+}
+
+double SpectralTransform::Phase(const std::vector<int>& h, long sample) const {
+  // Decompose the flat sample index into grid coordinates (last fastest).
+  double phase = 0.0;
+  long s = sample;
+  for (int d = dims_ - 1; d >= 0; --d) {
+    const int m = sampling_.grid[d];
+    const long coord = s % m;
+    s /= m;
+    long g = 0;
+    for (int i = 0; i < basis_.num_bases() && i < static_cast<int>(h.size()); ++i)
+      g += long(sampling_.embedding[d][i]) * h[i];
+    phase += double(Mod(g * coord, m)) / m;
+  }
+  return 2.0 * M_PI * (phase - std::floor(phase));
+}
+
+}  // namespace rmhb
