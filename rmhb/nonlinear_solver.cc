@@ -13,14 +13,25 @@ double MaxAbs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoef
 
 bool Finite(const Eigen::VectorXd& v) { return v.allFinite(); }
 
-// Newton direction: exact solve when square, least squares otherwise.
-Eigen::VectorXd NewtonStep(const Eigen::MatrixXd& J, const Eigen::VectorXd& F) {
-  if (J.rows() == J.cols()) {
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu(J);
-    return -lu.solve(F);
+// Newton direction: exact solve when square, least squares otherwise. The
+// factorisation is kept so that chord steps can reuse it: at a few hundred
+// unknowns the O(n^3) factorisation dominates everything else.
+class NewtonFactorization {
+ public:
+  void Factor(const Eigen::MatrixXd& J) {
+    square_ = J.rows() == J.cols();
+    if (square_) lu_.compute(J);
+    else qr_.compute(J);
   }
-  return -J.colPivHouseholderQr().solve(F);
-}
+  Eigen::VectorXd Step(const Eigen::VectorXd& F) const {
+    return square_ ? Eigen::VectorXd(-lu_.solve(F)) : Eigen::VectorXd(-qr_.solve(F));
+  }
+
+ private:
+  bool square_ = true;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
+};
 
 // (J'J + D) dx = -J'F through a Cholesky factorisation; D diagonal.
 Eigen::VectorXd RegularizedStep(const Eigen::MatrixXd& JtJ, const Eigen::VectorXd& JtF,
@@ -130,6 +141,8 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
   s.residual_history.push_back(norm);
   double lambda = options.initial_lambda;
   int stalled = 0;
+  NewtonFactorization factorization;
+  bool factored = false, chord = false;
 
   for (s.iterations = 1; s.iterations <= options.max_iterations; ++s.iterations) {
     if (norm <= options.residual_tolerance) {
@@ -140,7 +153,12 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
     bool accepted = false;
     double trial_norm = norm;
     if (method == SolverMethod::kNewton) {
-      dx = NewtonStep(J, F);
+      if (!factored) {
+        factorization.Factor(J);
+        factored = true;
+        chord = false;
+      }
+      dx = factorization.Step(F);
       if (!Finite(dx)) return finish(SolverStatus::kFailure, "singular Jacobian (Newton step is not finite); try --solver lm");
       // Backtracking on |F|^2; a full step is always tried first so that the
       // quadratic convergence near the solution is kept.
@@ -154,6 +172,15 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
           dx *= t;
           break;
         }
+        if (chord) break;  // a stale Jacobian: refresh rather than backtrack
+      }
+      if (!accepted && chord) {
+        // Retry this iteration with a fresh Jacobian at the same point.
+        ++s.evaluations;
+        problem.Evaluate(*x, &F, &J);
+        factored = false;
+        --s.iterations;
+        continue;
       }
       if (!accepted) {
         // Near the round-off floor no step decreases |F|: take the full step
@@ -163,6 +190,16 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
         if (problem.Evaluate(xtrial, &Ftrial, nullptr) && Finite(Ftrial) &&
             MaxAbs(Ftrial) <= 10 * norm + 1e-300)
           accepted = true;
+      }
+      if (accepted) {
+        // Keep the factorisation while it still contracts fast (chord/
+        // Shamanskii steps); otherwise refresh the Jacobian at the new point.
+        const double ratio = MaxAbs(Ftrial) / std::max(norm, 1e-300);
+        if (ratio < options.chord_contraction && MaxAbs(Ftrial) > options.residual_tolerance) {
+          chord = true;
+        } else {
+          factored = false;
+        }
       }
     } else {
       const Eigen::MatrixXd JtJ = J.transpose() * J;
@@ -206,9 +243,13 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
                         "); the initial guess may be too far from a solution");
     }
     *x = xtrial;
-    ++s.evaluations;
-    if (!problem.Evaluate(*x, &F, &J) || !Finite(F) || !J.allFinite())
-      return finish(SolverStatus::kFailure, "non-finite residual or Jacobian during iteration");
+    if (method == SolverMethod::kNewton && factored) {
+      F = Ftrial;
+    } else {
+      ++s.evaluations;
+      if (!problem.Evaluate(*x, &F, &J) || !Finite(F) || !J.allFinite())
+        return finish(SolverStatus::kFailure, "non-finite residual or Jacobian during iteration");
+    }
     trial_norm = MaxAbs(F);
     s.final_step = MaxAbs(dx);
     s.residual_history.push_back(trial_norm);
@@ -224,6 +265,7 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
     if (stalled >= 3 && s.final_step <= 1e3 * options.step_tolerance * (1 + MaxAbs(*x))) break;
   }
   if (options.estimate_condition) {
+    if (method == SolverMethod::kNewton && factored) problem.Evaluate(*x, &F, &J);
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
     const auto& sv = svd.singularValues();
     s.condition_estimate = sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : INFINITY;

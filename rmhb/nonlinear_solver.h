@@ -52,6 +52,10 @@ struct SolverOptions {
   double initial_lambda = 1e-4;
   double lambda_factor = 10.0;
   double tikhonov_factor = 1e-3;  // mu = factor * |F|
+  // Newton keeps its factorised Jacobian while each step shrinks max|F| by at
+  // least this factor (chord steps: O(n^2) instead of O(n^3) per iteration).
+  // 0 disables reuse.
+  double chord_contraction = 0.05;
   bool estimate_condition = false;  // costs one SVD of the final Jacobian
   bool verbose = false;
   std::string IsValid() const;  // empty when valid, otherwise what is wrong

@@ -1,0 +1,304 @@
+#include "examples/example_system.h"
+
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include "examples/references.h"
+#include "examples/simulation_guess.h"
+
+namespace rmhb::examples {
+namespace {
+
+using Values = std::map<std::string, double>;
+
+Polynomial P(const PolynomialSystem& s, const char* name) { return s.Var(name); }
+
+// x'' + c x' + k x + a x^3 = F cos(w t), recast x' = v (phi = 3).
+ExampleSetup Duffing(const Values& p) {
+  const double c = p.at("c"), k = p.at("k"), a = p.at("a"), F = p.at("F"), w = p.at("w");
+  if (!(w > 0)) throw std::invalid_argument("duffing: w must be > 0");
+  PolynomialSystem s;
+  s.AddVariable("x");
+  s.AddVariable("v");
+  const Polynomial x = P(s, "x"), v = P(s, "v");
+  s.AddEquation(s.D("x") - v);
+  s.AddEquation(s.D("v") + c * v + k * x + a * Pow(x, 3) - Polynomial::Cos({1}, F));
+  ExampleSetup e{{s, {w}, {false}, {}},
+                 HarmonicSolution(HarmonicBasis::Periodic(1), {w}, Eigen::MatrixXd::Zero(2, 3),
+                                  s.variables()),
+                 {},
+                 {},
+                 20};
+  // One-harmonic balance as the guess: with K = k - w^2 + 3/4 a A^2 the
+  // amplitude solves (K^2 + c^2 w^2) A^2 = F^2; take the largest root (the
+  // resonant branch), found by scanning y = A^2 and bisecting.
+  auto amplitude_eq = [&](double y) {
+    const double K = k - w * w + 0.75 * a * y;
+    return (K * K + c * c * w * w) * y - F * F;
+  };
+  double y_root = 0;
+  const double y_max = 4 * (std::abs(F) / std::max(1e-3, std::abs(c * w)) + 1) *
+                       (std::abs(F) / std::max(1e-3, std::abs(c * w)) + 1);
+  for (int i = 4000; i > 0 && y_root == 0; --i) {
+    double lo = y_max * (i - 1) / 4000, hi = y_max * i / 4000;
+    if (amplitude_eq(lo) * amplitude_eq(hi) > 0) continue;
+    for (int it = 0; it < 100; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (amplitude_eq(lo) * amplitude_eq(mid) <= 0 ? hi : lo) = mid;
+    }
+    y_root = 0.5 * (lo + hi);
+  }
+  const double K = k - w * w + 0.75 * a * y_root, D = K * K + c * c * w * w;
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(2, 3);
+  if (D > 0) {
+    g(0, 1) = F * K / D;
+    g(0, 2) = F * c * w / D;
+  }
+  g(1, 1) = w * g(0, 2);
+  g(1, 2) = -w * g(0, 1);
+  e.guess = HarmonicSolution(HarmonicBasis::Periodic(1), {w}, g, s.variables());
+  e.original.names = {"x", "x'"};
+  e.original.rhs = [=](double t, const double* y, double* dy) {
+    dy[0] = y[1];
+    dy[1] = F * std::cos(w * t) - c * y[1] - k * y[0] - a * y[0] * y[0] * y[0];
+  };
+  e.original.state = [](const HarmonicSolution& h, double t) {
+    return Eigen::Vector2d(h.Value(0, t), h.Derivative(0, t)).eval();
+  };
+  return e;
+}
+
+// Free Van der Pol x'' - eps (1 - x^2) x' + x = 0: derivative coupling, x' = u
+// and u' = eps u - x - eps x^2 u (phi = 3). Unknown frequency; phase x'(0) = 0.
+ExampleSetup VanDerPol(const Values& p) {
+  const double eps = p.at("eps");
+  if (!(eps > 0) || eps > 1000) throw std::invalid_argument("vanderpol: eps must be in (0, 1000]");
+  PolynomialSystem s;
+  s.AddVariable("x");
+  s.AddVariable("u", VariableRole::kState, "x'");
+  const Polynomial x = P(s, "x"), u = P(s, "u");
+  s.AddEquation(s.D("x") - u);
+  s.AddEquation(s.D("u") - eps * u + x + eps * x * x * u);
+  ExampleSetup e{{s, {1.0}, {true}, {PointCondition::Value(1, 0.0, "x'(0) = 0 (phase)")}},
+                 HarmonicSolution(HarmonicBasis::Periodic(1), {1.0}, Eigen::MatrixXd::Zero(2, 3),
+                                  s.variables()),
+                 {},
+                 {},
+                 eps <= 1 ? 40 : static_cast<int>(40 * eps)};
+  auto rhs = [eps](double, const double* y, double* dy) {
+    dy[0] = y[1];
+    dy[1] = eps * (1 - y[0] * y[0]) * y[1] - y[0];
+  };
+  const double period_guess = 2 * M_PI + 1.614 * eps;  // sinusoid + relaxation estimate
+  e.guess = GuessFromSimulation(rhs, Eigen::Vector2d(2.0, 0.0), period_guess, 3,
+                                HarmonicBasis::Periodic(std::min(200, e.default_order)),
+                                s.variables(), [](const Eigen::VectorXd& y) { return y; });
+  e.problem.frequencies = e.guess.frequencies();
+  e.original.names = {"x", "x'"};
+  e.original.rhs = rhs;
+  e.original.stiff = eps > 5;
+  e.original.state = [](const HarmonicSolution& h, double t) {
+    return Eigen::Vector2d(h.Value(0, t), h.Value(1, t)).eval();
+  };
+  return e;
+}
+
+// Pendulum theta'' + sin(theta) = 0, recast (20): theta' = v, v' = -s,
+// s' = c v, c' = -s v with s = sin(theta), c = cos(theta) (phi = 2).
+// s and c are defined through their derivatives, so their constant balance is
+// dropped and their values at t = 0 pinned (24). Conditions theta(0) = theta0,
+// theta'(0) = 0: overdetermined by one but consistent (energy conservation).
+ExampleSetup Pendulum(const Values& p) {
+  const double a = p.at("theta0");
+  if (!(std::abs(a) > 0 && std::abs(a) < M_PI))
+    throw std::invalid_argument("pendulum: theta0 must satisfy 0 < |theta0| < pi");
+  PolynomialSystem s;
+  s.AddVariable("theta");
+  s.AddVariable("v", VariableRole::kState, "theta'");
+  s.AddVariable("s", VariableRole::kAuxiliary, "sin(theta)");
+  s.AddVariable("c", VariableRole::kAuxiliary, "cos(theta)");
+  const Polynomial v = P(s, "v"), sn = P(s, "s"), cs = P(s, "c");
+  s.AddEquation(s.D("theta") - v);
+  s.AddEquation(s.D("v") + sn);
+  s.AddEquation(s.D("s") - cs * v, false);
+  s.AddEquation(s.D("c") + sn * v, false);
+  const double w0 = 1.0 - a * a / 16.0;
+  std::vector<PointCondition> conditions = {
+      PointCondition::Value(0, a, "theta(0) = theta0"),
+      PointCondition::Value(1, 0.0, "theta'(0) = 0"),
+      PointCondition::Pinned(2, 0, [](double th) { return std::sin(th); },
+                             [](double th) { return std::cos(th); }, "s(0) = sin(theta(0))"),
+      PointCondition::Pinned(3, 0, [](double th) { return std::cos(th); },
+                             [](double th) { return -std::sin(th); }, "c(0) = cos(theta(0))")};
+  ExampleSetup e{{s, {w0}, {true}, conditions},
+                 HarmonicSolution::FromAngles(
+                     HarmonicBasis::Periodic(5), {w0}, s.variables(),
+                     [a, w0](const std::vector<double>& th) {
+                       const double theta = a * std::cos(th[0]);
+                       return Eigen::Vector4d(theta, -a * w0 * std::sin(th[0]), std::sin(theta),
+                                              std::cos(theta))
+                           .eval();
+                     }),
+                 {},
+                 {},
+                 25};
+  e.original.names = {"theta", "theta'"};
+  e.original.rhs = [](double, const double* y, double* dy) {
+    dy[0] = y[1];
+    dy[1] = -std::sin(y[0]);
+  };
+  e.original.state = [](const HarmonicSolution& h, double t) {
+    return Eigen::Vector2d(h.Value(0, t), h.Value(1, t)).eval();
+  };
+  e.reference.frequency = PendulumFrequency(a);
+  e.reference.amplitude = std::abs(a);
+  e.reference.amplitude_variable = "theta";
+  e.reference.solution = [a](double t) { return PendulumAngle(a, t); };
+  e.reference.source = "exact: w = pi/(2K(m)), theta(t) from its nome series";
+  return e;
+}
+
+// Relativistic oscillator x'' + (1 - x'^2)^(3/2) x = 0, recast (18):
+// x' - v = 0, v' + u^3 x = 0, u^2 + v^2 - 1 = 0 (phi = 4), x(0) = 0, x'(0) = beta.
+ExampleSetup Relativistic(const Values& p) {
+  const double beta = p.at("beta");
+  if (!(beta > 0 && beta < 1)) throw std::invalid_argument("relativistic: beta must be in (0, 1)");
+  PolynomialSystem s;
+  s.AddVariable("x");
+  s.AddVariable("v", VariableRole::kState, "x'");
+  s.AddVariable("u", VariableRole::kAuxiliary, "sqrt(1 - x'^2)");
+  const Polynomial x = P(s, "x"), v = P(s, "v"), u = P(s, "u");
+  s.AddEquation(s.D("x") - v);
+  s.AddEquation(s.D("v") + Pow(u, 3) * x);
+  s.AddEquation(u * u + v * v - 1.0);
+  const double A = RelativisticAmplitude(beta);
+  const double w0 = beta / A;
+  std::vector<PointCondition> conditions = {
+      PointCondition::Value(0, 0.0, "x(0) = 0"),
+      PointCondition::DerivativeValue(0, beta, "x'(0) = beta")};
+  ExampleSetup e{{s, {w0}, {true}, conditions},
+                 HarmonicSolution::FromAngles(
+                     HarmonicBasis::Periodic(5), {w0}, s.variables(),
+                     [A, w0](const std::vector<double>& th) {
+                       const double v = A * w0 * std::cos(th[0]);
+                       return Eigen::Vector3d(A * std::sin(th[0]), v, std::sqrt(1 - v * v)).eval();
+                     }),
+                 {},
+                 {},
+                 55};
+  e.original.names = {"x", "x'"};
+  e.original.rhs = [](double, const double* y, double* dy) {
+    dy[0] = y[1];
+    dy[1] = -std::pow(1 - y[1] * y[1], 1.5) * y[0];
+  };
+  e.original.state = [](const HarmonicSolution& h, double t) {
+    return Eigen::Vector2d(h.Value(0, t), h.Value(1, t)).eval();
+  };
+  e.reference.frequency = 2 * M_PI / RelativisticPeriod(beta);
+  e.reference.amplitude = A;
+  e.reference.amplitude_variable = "x";
+  e.reference.source = "exact: energy gamma + x^2/2 conserved, period by quadrature";
+  return e;
+}
+
+// Rayleigh-Plesset (16): R R'' = -3/2 R'^2 - A R'/R - B/R + C/R^3 + D - E cos(w t).
+// Recast with v = R', x = 1/R: v' = -3/2 v^2 x - A v x^2 - B x^2 + C x^4 + D x
+// - E x cos(w t), R x - 1 = 0 (phi = 4).
+ExampleSetup RayleighPlesset(const Values& p) {
+  const double A = p.at("A"), B = p.at("B"), C = p.at("C"), D = p.at("D"), E = p.at("E"),
+               w = p.at("w");
+  if (!(w > 0)) throw std::invalid_argument("rayleigh-plesset: w must be > 0");
+  PolynomialSystem s;
+  s.AddVariable("R");
+  s.AddVariable("v", VariableRole::kState, "R'");
+  s.AddVariable("x", VariableRole::kAuxiliary, "1/R");
+  const Polynomial R = P(s, "R"), v = P(s, "v"), x = P(s, "x");
+  s.AddEquation(s.D("R") - v);
+  s.AddEquation(s.D("v") + 1.5 * v * v * x + A * v * x * x + B * x * x - C * Pow(x, 4) - D * x +
+                x * Polynomial::Cos({1}, E));
+  s.AddEquation(R * x - 1.0);
+  // Equilibrium radius (E = 0) as the guess: -B/R + C/R^3 + D = 0 near R = 1.
+  double R0 = 1.0;
+  for (int i = 0; i < 50; ++i) {
+    const double f = -B / R0 + C / (R0 * R0 * R0) + D, df = B / (R0 * R0) - 3 * C / std::pow(R0, 4);
+    if (df == 0) break;
+    R0 = std::max(0.1 * R0, R0 - f / df);
+  }
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(3, 3);
+  g(0, 0) = R0;
+  g(2, 0) = 1 / R0;
+  ExampleSetup e{{s, {w}, {false}, {}},
+                 HarmonicSolution(HarmonicBasis::Periodic(1), {w}, g, s.variables()),
+                 {},
+                 {},
+                 30};
+  e.original.names = {"R", "R'"};
+  e.original.rhs = [=](double t, const double* y, double* dy) {
+    const double r = y[0], rd = y[1];
+    dy[0] = rd;
+    dy[1] = (-1.5 * rd * rd - A * rd / r - B / r + C / (r * r * r) + D - E * std::cos(w * t)) / r;
+  };
+  e.original.state = [](const HarmonicSolution& h, double t) {
+    return Eigen::Vector2d(h.Value(0, t), h.Value(1, t)).eval();
+  };
+  return e;
+}
+
+}  // namespace
+
+const std::vector<Example>& AllExamples() {
+  static const std::vector<Example> examples = {
+      {"duffing", "Forced Duffing oscillator", "x'' + c x' + k x + a x^3 = F cos(w t)",
+       {{"c", 0.1, "damping"}, {"k", 1.0, "linear stiffness"}, {"a", 1.0, "cubic stiffness"},
+        {"F", 1.0, "forcing amplitude"}, {"w", 1.5, "forcing frequency"}},
+       Duffing},
+      {"vanderpol", "Free Van der Pol oscillator (limit cycle)", "x'' - eps (1 - x^2) x' + x = 0",
+       {{"eps", 1.0, "nonlinear damping (relaxation for eps >> 1)"}},
+       VanDerPol},
+      {"pendulum", "Nonlinear pendulum released from rest", "theta'' + sin(theta) = 0",
+       {{"theta0", 1.5, "initial angle theta(0), 0 < |theta0| < pi"}},
+       Pendulum},
+      {"relativistic", "Relativistic harmonic oscillator", "x'' + (1 - x'^2)^(3/2) x = 0",
+       {{"beta", 0.85, "initial velocity x'(0) as a fraction of c, x(0) = 0"}},
+       Relativistic},
+      {"rayleigh-plesset", "Forced Rayleigh-Plesset bubble",
+       "R R'' = -3/2 R'^2 - A R'/R - B/R + C/R^3 + D - E cos(w t)",
+       {{"A", 0.1, "viscous term"}, {"B", 1.0, "surface tension term"},
+        {"C", 2.0, "gas pressure term"}, {"D", -1.0, "ambient pressure term"},
+        {"E", 0.2, "acoustic forcing amplitude"}, {"w", 2.0, "forcing frequency"}},
+       RayleighPlesset},
+  };
+  return examples;
+}
+
+const Example* FindExample(const std::string& name) {
+  for (const auto& e : AllExamples())
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+ExampleSetup BuildExample(const std::string& name, const std::map<std::string, double>& overrides) {
+  const Example* example = FindExample(name);
+  if (!example) {
+    std::string known;
+    for (const auto& e : AllExamples()) known += (known.empty() ? "" : ", ") + e.name;
+    throw std::invalid_argument("unknown example '" + name + "' (known: " + known + ")");
+  }
+  Values values;
+  for (const auto& p : example->parameters) values[p.name] = p.value;
+  for (const auto& [k, v] : overrides) {
+    if (!values.count(k)) {
+      std::string known;
+      for (const auto& p : example->parameters) known += (known.empty() ? "" : ", ") + p.name;
+      throw std::invalid_argument("example '" + name + "' has no parameter '" + k +
+                                  "' (parameters: " + known + ")");
+    }
+    if (!std::isfinite(v))
+      throw std::invalid_argument("parameter '" + k + "' must be finite");
+    values[k] = v;
+  }
+  return example->build(values);
+}
+
+}  // namespace rmhb::examples

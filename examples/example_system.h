@@ -1,0 +1,76 @@
+#ifndef RMHB_EXAMPLES_EXAMPLE_SYSTEM_H_
+#define RMHB_EXAMPLES_EXAMPLE_SYSTEM_H_
+
+// The paper's test systems, each with its original ODE (for validation by
+// integration), its polynomial recast written by hand, a starting guess, and
+// its exact reference where one exists. Tests, benchmarks, the CLI and the
+// docs all use these, so that a number quoted anywhere refers to the same
+// problem.
+
+#include <functional>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "rmhb/collocation_residual.h"
+#include "rmhb/harmonic_solution.h"
+
+namespace rmhb::examples {
+
+struct Parameter {
+  std::string name;
+  double value;
+  std::string meaning;
+};
+
+// y' = f(t, y) in the user's own variables, and how to read y(t) off a
+// harmonic balance solution.
+struct OriginalOde {
+  std::vector<std::string> names;
+  std::function<void(double t, const double* y, double* ydot)> rhs;
+  std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
+  bool stiff = false;  // integrate with BDF rather than Adams
+  int dimension() const { return static_cast<int>(names.size()); }
+};
+
+struct Reference {
+  static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  double frequency = kNone;  // exact angular frequency
+  double amplitude = kNone;  // exact max |z| of variable `amplitude_variable`
+  std::string amplitude_variable;
+  std::function<double(double t)> solution;  // exact first variable, if known
+  std::string source;
+  bool has_frequency() const { return frequency == frequency; }
+  bool has_amplitude() const { return amplitude == amplitude; }
+};
+
+struct ExampleSetup {
+  HarmonicBalanceProblem problem;
+  HarmonicSolution guess;
+  OriginalOde original;
+  Reference reference;
+  int default_order = 10;
+};
+
+struct Example {
+  std::string name;
+  std::string description;
+  std::string equation;  // the original equation, as a user writes it
+  std::vector<Parameter> parameters;
+  std::function<ExampleSetup(const std::map<std::string, double>& values)> build;
+};
+
+const std::vector<Example>& AllExamples();
+// nullptr when unknown.
+const Example* FindExample(const std::string& name);
+// Builds with defaults overridden by `overrides`. Throws std::invalid_argument
+// naming an unknown example or parameter, or a non-finite / out-of-range value.
+ExampleSetup BuildExample(const std::string& name,
+                          const std::map<std::string, double>& overrides = {});
+
+}  // namespace rmhb::examples
+
+#endif  // RMHB_EXAMPLES_EXAMPLE_SYSTEM_H_

@@ -1,0 +1,37 @@
+#ifndef RMHB_CLI_COMMANDS_H_
+#define RMHB_CLI_COMMANDS_H_
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace rmhb::cli {
+
+struct SolveArgs {
+  std::string model;
+  std::vector<std::string> set;  // name=value
+  int order = 0;                 // 0: the example's default
+  int samples = 0;               // 0: by the method's rule
+  std::string method = "rhb";
+  std::string solver = "auto";
+  bool allow_aliasing = false;
+  bool validate = false;
+  int validate_periods = 1;
+  bool json = false;
+  bool quiet = false;
+};
+
+void AddSolveOptions(CLI::App* app, SolveArgs* args);
+int RunSolve(const SolveArgs& args);
+int RunList(bool json);
+
+// "name=value" -> (name, value); throws std::invalid_argument saying which
+// argument is malformed or not a finite number.
+std::pair<std::string, double> ParseAssignment(const std::string& text);
+
+}  // namespace rmhb::cli
+
+#endif  // RMHB_CLI_COMMANDS_H_

@@ -1,0 +1,59 @@
+// rmhb: the command-line front end. Thin by design: it parses arguments,
+// builds a problem from the examples (or a model file), calls the library,
+// and prints a report (text or --json). Exit codes: see exit_codes.h.
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+
+#include "rmhb/cli/commands.h"
+#include "rmhb/cli/exit_codes.h"
+
+int main(int argc, char** argv) {
+  using namespace rmhb::cli;
+  CLI::App app{
+      "rmhb: periodic and quasi-periodic steady states of nonlinear dynamical systems by\n"
+      "reconstruction harmonic balance (RHB), to machine precision.\n\n"
+      "Exit codes: 0 ok, 1 usage error, 2 bad input (unknown model or parameter, invalid\n"
+      "value), 3 the solver did not converge (the residual reached is reported), 4 internal."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "rmhb 0.1.0");
+
+  SolveArgs solve;
+  CLI::App* solve_cmd = app.add_subcommand(
+      "solve",
+      "Solve for a periodic steady state of a bundled example.\n"
+      "Prints the frequency, the harmonic coefficients and, with --validate, the maximum\n"
+      "error against a SUNDIALS integration of the ORIGINAL equations.");
+  AddSolveOptions(solve_cmd, &solve);
+
+  CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
+  bool list_json = false;
+  list_cmd->add_flag("--json", list_json, "Machine-readable output");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return kExitUsage;
+  }
+  try {
+    if (*solve_cmd) return RunSolve(solve);
+    if (*list_cmd) return RunList(list_json);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "rmhb: error: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rmhb: internal error: %s\n", e.what());
+    return kExitInternal;
+  }
+  return kExitUsage;
+}

@@ -1,0 +1,104 @@
+#include "rmhb/spectral_transform.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace rmhb {
+namespace {
+
+Eigen::VectorXd Random(int n, unsigned seed) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v(i) = u(gen);
+  return v;
+}
+
+TEST(SpectralTransform, ProjectionInvertsSynthesisPeriodic) {
+  const HarmonicBasis basis = HarmonicBasis::Periodic(7);
+  for (int M : {15, 16, 29, 64}) {
+    SpectralTransform t(basis, Sampling::Uniform(M));
+    const Eigen::VectorXd x = Random(basis.num_coefficients(), M);
+    Eigen::VectorXd s(M), y(basis.num_coefficients());
+    t.Synthesize(x.data(), s.data());
+    t.Project(s.data(), y.data());
+    EXPECT_LT((x - y).cwiseAbs().maxCoeff(), 1e-14) << "M = " << M;
+  }
+}
+
+TEST(SpectralTransform, SynthesisMatchesDirectSum) {
+  const HarmonicBasis basis = HarmonicBasis::Periodic(4);
+  const int M = 13;
+  SpectralTransform t(basis, Sampling::Uniform(M));
+  const Eigen::VectorXd x = Random(basis.num_coefficients(), 3);
+  Eigen::VectorXd s(M);
+  t.Synthesize(x.data(), s.data());
+  for (int j = 0; j < M; ++j) {
+    const double th = 2 * M_PI * j / M;
+    double v = x(0);
+    for (int k = 1; k <= 4; ++k) v += x(2 * k - 1) * std::cos(k * th) + x(2 * k) * std::sin(k * th);
+    EXPECT_NEAR(s(j), v, 1e-14);
+  }
+}
+
+TEST(SpectralTransform, TorusAndGcdGridsInvertSynthesis) {
+  const HarmonicBasis basis = HarmonicBasis::Diamond(2, 3);
+  const Eigen::VectorXd x = Random(basis.num_coefficients(), 9);
+  for (const Sampling& sampling : {Sampling::Torus({9, 10}), Sampling::Gcd(64, {3, 5})}) {
+    SpectralTransform t(basis, sampling);
+    Eigen::VectorXd s(t.num_samples()), y(basis.num_coefficients());
+    t.Synthesize(x.data(), s.data());
+    t.Project(s.data(), y.data());
+    EXPECT_LT((x - y).cwiseAbs().maxCoeff(), 1e-13) << sampling.description;
+  }
+}
+
+TEST(SpectralTransform, RefusesGridTooCoarseForBasis) {
+  EXPECT_THROW(SpectralTransform(HarmonicBasis::Periodic(5), Sampling::Uniform(9)),
+               std::invalid_argument);
+  EXPECT_THROW(SpectralTransform(HarmonicBasis::Periodic(5), Sampling::Uniform(10)),
+               std::invalid_argument);  // harmonic 5 on the Nyquist line
+}
+
+// E* diag(p) E (and with the derivative map) from the Toeplitz-Hankel formula
+// must equal the product formed column by column through the samples.
+TEST(SpectralTransform, MultiplicationMatrixMatchesSampledProduct) {
+  for (const bool torus : {false, true}) {
+    const HarmonicBasis basis = torus ? HarmonicBasis::Diamond(2, 3) : HarmonicBasis::Periodic(6);
+    const Sampling sampling = torus ? Sampling::Torus({11, 12}) : Sampling::Uniform(23);
+    SpectralTransform t(basis, sampling);
+    const int C = basis.num_coefficients();
+    const long M = t.num_samples();
+    const Eigen::VectorXd p = Random(static_cast<int>(M), 5);
+    std::vector<double> rate(basis.size());
+    for (int k = 0; k < basis.size(); ++k) rate[k] = basis.Frequency(k, torus ? std::vector<double>{1.0, 1.37} : std::vector<double>{0.8});
+    t.Analyze(p.data());
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(C, C), BD = Eigen::MatrixXd::Zero(C, C);
+    t.AddMultiplicationMatrix(1.0, nullptr, B);
+    t.AddMultiplicationMatrix(1.0, rate.data(), BD);
+    Eigen::VectorXd e(C), d(C), s(M), col(C);
+    for (int l = 0; l < C; ++l) {
+      e.setZero();
+      e(l) = 1;
+      t.Synthesize(e.data(), s.data());
+      s.array() *= p.array();
+      t.Project(s.data(), col.data());
+      EXPECT_LT((B.col(l) - col).cwiseAbs().maxCoeff(), 1e-13);
+      d.setZero();  // derivative of basis function l
+      if (l > 0) {
+        const int k = (l + 1) / 2;
+        if (l % 2) d(2 * k) = -rate[k];  // cos -> -w sin
+        else d(2 * k - 1) = rate[k];     // sin -> w cos
+      }
+      t.Synthesize(d.data(), s.data());
+      s.array() *= p.array();
+      t.Project(s.data(), col.data());
+      EXPECT_LT((BD.col(l) - col).cwiseAbs().maxCoeff(), 1e-13);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rmhb
