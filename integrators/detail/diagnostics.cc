@@ -1,0 +1,44 @@
+#include "integrators/detail/diagnostics.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace rmhb::integrators::detail {
+
+void CaptureSundialsError(int error_code, const char* module, const char* function, char* msg,
+                          void* user_data) {
+  // Warnings (CV_WARNING == IDA_WARNING == 99) such as "t + h = t" do not
+  // end the integration; keep them out of the failure message.
+  if (error_code > 0 || user_data == nullptr) return;
+  auto* diagnostics = static_cast<Diagnostics*>(user_data);
+  diagnostics->sundials_error = std::string(module ? module : "SUNDIALS") +
+                                "::" + (function ? function : "?") + ": " + (msg ? msg : "");
+}
+
+std::string ComposeFailureMessage(const std::string& flag_name, const Diagnostics& diagnostics) {
+  std::string message = flag_name;
+  const char* separator = ": ";
+  for (const std::string* part : {&diagnostics.sundials_error, &diagnostics.callback_error}) {
+    if (part->empty()) continue;
+    message += separator + *part;
+    separator = "; ";
+  }
+  return message;
+}
+
+int FirstNonFinite(const double* values, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(values[i])) return i;
+  }
+  return -1;
+}
+
+std::string NonFiniteMessage(const char* callback, double t, int index, double value) {
+  char buffer[160];
+  std::snprintf(buffer, sizeof(buffer),
+                "%s returned a non-finite value (%g) in component %d at t = %.17g", callback, value,
+                index, t);
+  return buffer;
+}
+
+}  // namespace rmhb::integrators::detail

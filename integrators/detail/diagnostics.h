@@ -1,0 +1,38 @@
+// Collects why a SUNDIALS call failed, instead of letting SUNDIALS print to
+// stderr: a library must not write to the console, and the caller wants the
+// reason in IntegrationResult::message.
+
+#ifndef RMHB_INTEGRATORS_DETAIL_DIAGNOSTICS_H_
+#define RMHB_INTEGRATORS_DETAIL_DIAGNOSTICS_H_
+
+#include <string>
+
+namespace rmhb::integrators::detail {
+
+struct Diagnostics {
+  std::string sundials_error;  // Last error text SUNDIALS reported.
+  std::string callback_error;  // First reason a user callback was rejected.
+
+  void RecordCallbackError(const std::string& what) {
+    // The first error is the cause; later ones are usually its consequences.
+    if (callback_error.empty()) callback_error = what;
+  }
+};
+
+// Matches both CVErrHandlerFn and IDAErrHandlerFn; user_data is Diagnostics*.
+void CaptureSundialsError(int error_code, const char* module, const char* function, char* msg,
+                          void* user_data);
+
+// "FLAG_NAME: sundials text; callback text", skipping empty parts.
+std::string ComposeFailureMessage(const std::string& flag_name, const Diagnostics& diagnostics);
+
+// Index of the first non-finite entry of values[0..n), or -1.
+int FirstNonFinite(const double* values, int n);
+
+// Describes a rejected callback output, e.g.
+// "rhs returned a non-finite value (nan) in component 1 at t = 0.5".
+std::string NonFiniteMessage(const char* callback, double t, int index, double value);
+
+}  // namespace rmhb::integrators::detail
+
+#endif  // RMHB_INTEGRATORS_DETAIL_DIAGNOSTICS_H_

@@ -1,0 +1,44 @@
+// Zero crossings of a scalar function along an ODE trajectory, located to
+// near machine precision; the basis for measuring limit-cycle periods.
+
+#ifndef RMHB_INTEGRATORS_EVENT_DETECTION_H_
+#define RMHB_INTEGRATORS_EVENT_DETECTION_H_
+
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+#include "integrators/integration_result.h"
+#include "integrators/integrator_options.h"
+#include "integrators/ode_system.h"
+
+namespace rmhb::integrators {
+
+using EventFunction = std::function<double(double t, const double* y)>;
+
+// Integrates system from (t0, y0) to t_end (> t0) and returns, in increasing
+// order, the times in (t0, t_end] where g(t, y(t)) crosses zero in the given
+// direction: +1 upward only, -1 downward only, 0 both. A zero of g exactly at
+// t0 is not a crossing.
+//
+// CVODE brackets each root to ~100 u (|t| + |h|) (u = unit round-off); a
+// secant iteration on g evaluated along CVODE's interpolating polynomial of
+// the last step (CVodeGetDky) then polishes it to a few ulps of t. The
+// remaining error is that of the trajectory itself, i.e. set by the
+// tolerances in options.
+//
+// If info is not null it receives status, counts, timing, and in
+// info->trajectory the crossing times with the interpolated states there.
+// On solver failure the crossings found so far are returned and
+// info->status is kFailure; pass info to be able to tell.
+//
+// Throws std::invalid_argument for misuse (as IntegrateOde, plus empty g,
+// t_end <= t0, direction outside {-1, 0, 1}).
+std::vector<double> FindCrossings(const OdeSystem& system, const Eigen::VectorXd& y0, double t0,
+                                  double t_end, const EventFunction& g, int direction,
+                                  const IntegratorOptions& options = {},
+                                  IntegrationResult* info = nullptr);
+
+}  // namespace rmhb::integrators
+
+#endif  // RMHB_INTEGRATORS_EVENT_DETECTION_H_

@@ -1,0 +1,223 @@
+#include "integrators/ida_integrator.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "integrators/cvode_integrator.h"
+#include "test_systems.h"
+
+namespace rmhb::integrators {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+Eigen::VectorXd Vec(std::initializer_list<double> values) {
+  Eigen::VectorXd v(static_cast<Eigen::Index>(values.size()));
+  Eigen::Index i = 0;
+  for (double x : values) v[i++] = x;
+  return v;
+}
+
+std::vector<double> Grid(double start, double stop, int n) {
+  std::vector<double> times(n);
+  for (int k = 0; k < n; ++k) times[k] = start + (stop - start) * k / (n - 1);
+  return times;
+}
+
+// Semi-explicit index 1:  x' = -x + z,  0 = z - x^2.  From x(0) = 1/2 the
+// solution is x = 1 / (1 + e^t), z = x^2.
+DaeSystem Logistic() {
+  DaeSystem system;
+  system.dimension = 2;
+  system.residual = [](double, const double* y, const double* yp, double* r) {
+    r[0] = yp[0] - (-y[0] + y[1]);
+    r[1] = y[1] - y[0] * y[0];
+  };
+  system.differential = {true, false};
+  return system;
+}
+
+double MaxLogisticError(const Trajectory& trajectory) {
+  double error = 0;
+  for (int k = 0; k < trajectory.size(); ++k) {
+    const double x = 1.0 / (1.0 + std::exp(trajectory.times[k]));
+    error = std::max(error, std::fabs(trajectory.states(k, 0) - x));
+    error = std::max(error, std::fabs(trajectory.states(k, 1) - x * x));
+  }
+  return error;
+}
+
+TEST(IntegrateDae, SemiExplicitIndexOneMatchesExactSolution) {
+  IntegratorOptions options;
+  options.compute_consistent_initial_condition = false;  // Already consistent.
+  const IntegrationResult result =
+      IntegrateDae(Logistic(), Vec({0.5, 0.25}), Vec({-0.25, 0.0}), 0.0, Grid(0, 5, 11), options);
+  ASSERT_TRUE(result.ok()) << result.BriefReport();
+  EXPECT_EQ(result.solver, "IDA/BDF");
+  const double error = MaxLogisticError(result.trajectory);
+  RecordProperty("max_error", testing::Sci(error));
+  EXPECT_LT(error, 1e-10);
+  EXPECT_GT(result.rhs_evaluations, result.steps);
+}
+
+TEST(IntegrateDae, InconsistentInitialConditionIsRepaired) {
+  // z0 and yp0 are wrong; only the differential x0 is trusted.
+  const IntegrationResult result =
+      IntegrateDae(Logistic(), Vec({0.5, 0.0}), Vec({0.0, 0.0}), 0.0, Grid(0, 5, 11));
+  ASSERT_TRUE(result.ok()) << result.BriefReport();
+  // The t0 output is the corrected state, not the guess.
+  EXPECT_EQ(result.trajectory.states(0, 0), 0.5);
+  EXPECT_NEAR(result.trajectory.states(0, 1), 0.25, 1e-14);
+  const double error = MaxLogisticError(result.trajectory);
+  RecordProperty("max_error", testing::Sci(error));
+  EXPECT_LT(error, 1e-10);
+}
+
+// Shows that the option really switches IDACalcIC off: the same start
+// that is repaired above cannot be integrated as given (IDA fails its
+// first step with IDA_CONV_FAIL at t = 0).
+TEST(IntegrateDae, WithoutRepairAnInconsistentStartFails) {
+  IntegratorOptions options;
+  options.compute_consistent_initial_condition = false;
+  const IntegrationResult result =
+      IntegrateDae(Logistic(), Vec({0.5, 0.0}), Vec({0.0, 0.0}), 0.0, {0.0, 5.0}, options);
+  EXPECT_FALSE(result.ok());
+  ASSERT_EQ(result.trajectory.size(), 1);
+  EXPECT_EQ(result.trajectory.states(0, 1), 0.0);  // The t0 output echoes the input.
+}
+
+TEST(IntegrateDae, ImplicitOdeWithAllComponentsDifferential) {
+  DaeSystem system;
+  system.dimension = 2;
+  system.residual = [](double, const double* y, const double* yp, double* r) {
+    r[0] = yp[0] - y[1];
+    r[1] = yp[1] + y[0];
+  };
+  // differential left empty: all differential.
+  IntegratorOptions options;
+  options.relative_tolerance = 1e-11;
+  options.absolute_tolerance = 1e-13;
+  const IntegrationResult result =
+      IntegrateDae(system, Vec({1, 0}), Vec({0, -1}), 0.0, Grid(0, 10, 21), options);
+  ASSERT_TRUE(result.ok()) << result.BriefReport();
+  double error = 0;
+  for (int k = 0; k < result.trajectory.size(); ++k) {
+    error = std::max(
+        error, std::fabs(result.trajectory.states(k, 0) - std::cos(result.trajectory.times[k])));
+  }
+  RecordProperty("max_error", testing::Sci(error));
+  EXPECT_LT(error, 1e-8);
+}
+
+// Pendulum in Cartesian coordinates, index-1 form (constraint differentiated
+// twice, tension lambda algebraic). Must agree with the angle form
+// theta'' = -sin(theta) integrated by CVODE.
+TEST(IntegrateDae, CartesianPendulumAgreesWithAngleForm) {
+  constexpr double kTheta0 = testing::kPendulumTheta0;
+  DaeSystem system;
+  system.dimension = 5;  // x, y, u, v, lambda
+  system.residual = [](double, const double* s, const double* sp, double* r) {
+    const double x = s[0], y = s[1], u = s[2], v = s[3], lambda = s[4];
+    r[0] = sp[0] - u;
+    r[1] = sp[1] - v;
+    r[2] = sp[2] + lambda * x;
+    r[3] = sp[3] + lambda * y + 1.0;
+    r[4] = u * u + v * v - lambda * (x * x + y * y) - y;
+  };
+  system.differential = {true, true, true, true, false};
+  // Positions exact, tension and all derivatives left for IDACalcIC.
+  const Eigen::VectorXd s0 = Vec({std::sin(kTheta0), -std::cos(kTheta0), 0, 0, 0});
+  IntegratorOptions options;
+  options.relative_tolerance = 1e-11;
+  options.absolute_tolerance = 1e-13;
+  const std::vector<double> times = Grid(0, 10, 41);
+  const IntegrationResult dae =
+      IntegrateDae(system, s0, Eigen::VectorXd::Zero(5), 0.0, times, options);
+  ASSERT_TRUE(dae.ok()) << dae.BriefReport();
+  const IntegrationResult ode = IntegrateOde(testing::Pendulum(), Vec({kTheta0, 0}), 0.0, times);
+  ASSERT_TRUE(ode.ok()) << ode.BriefReport();
+
+  double error = 0, drift = 0;
+  for (int k = 0; k < dae.trajectory.size(); ++k) {
+    const double theta = ode.trajectory.states(k, 0);
+    const Eigen::RowVectorXd s = dae.trajectory.states.row(k);
+    error = std::max({error, std::fabs(s[0] - std::sin(theta)), std::fabs(s[1] + std::cos(theta))});
+    drift = std::max(drift, std::fabs(s[0] * s[0] + s[1] * s[1] - 1.0));
+  }
+  RecordProperty("max_error", testing::Sci(error));
+  RecordProperty("constraint_drift", testing::Sci(drift));
+  EXPECT_NEAR(dae.trajectory.states(0, 4), std::cos(kTheta0), 1e-12);  // Repaired tension.
+  EXPECT_LT(error, 1e-7);
+  // Index reduction loses the position constraint; it may drift, slowly.
+  EXPECT_LT(drift, 1e-7);
+}
+
+TEST(IntegrateDae, NanFromResidualEndsInFailure) {
+  DaeSystem system = Logistic();
+  system.residual = [](double t, const double* y, const double* yp, double* r) {
+    r[0] = yp[0] - (-y[0] + y[1]);
+    r[1] = t > 1.0 ? kNaN : y[1] - y[0] * y[0];
+  };
+  ::testing::internal::CaptureStderr();
+  const IntegrationResult result =
+      IntegrateDae(system, Vec({0.5, 0.25}), Vec({-0.25, 0}), 0.0, {0.5, 1.0, 2.0, 3.0});
+  const std::string console = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(result.status, IntegrationStatus::kFailure);
+  EXPECT_THAT(result.message, HasSubstr("IDA_"));
+  EXPECT_THAT(result.message,
+              HasSubstr("residual returned a non-finite value (nan) in component 1"));
+  EXPECT_TRUE(result.trajectory.states.allFinite());
+  EXPECT_LE(result.trajectory.size(), 2);
+  EXPECT_TRUE(console.empty()) << console;
+}
+
+TEST(IntegrateDae, UnsolvableAlgebraicEquationFailsInInitialCondition) {
+  DaeSystem system;
+  system.dimension = 2;
+  system.residual = [](double, const double* y, const double* yp, double* r) {
+    r[0] = yp[0] + y[0];
+    r[1] = y[1] * y[1] + 1.0;  // No real root.
+  };
+  system.differential = {true, false};
+  const IntegrationResult result = IntegrateDae(system, Vec({1, 0.5}), Vec({-1, 0}), 0.0, {1.0});
+  EXPECT_FALSE(result.ok());
+  EXPECT_THAT(result.message, HasSubstr("IDACalcIC"));
+  EXPECT_EQ(result.trajectory.size(), 0);
+}
+
+TEST(IntegrateDae, MisuseThrowsInvalidArgument) {
+  const DaeSystem good = Logistic();
+  const Eigen::VectorXd y0 = Vec({0.5, 0.25}), yp0 = Vec({-0.25, 0});
+  DaeSystem bad_id = good;
+  bad_id.differential = {true};
+  DaeSystem no_residual = good;
+  no_residual.residual = nullptr;
+  DaeSystem zero_dimension = good;
+  zero_dimension.dimension = 0;
+  zero_dimension.differential.clear();
+  EXPECT_THROW(IntegrateDae(bad_id, y0, yp0, 0, {1.0}), std::invalid_argument);
+  EXPECT_THROW(IntegrateDae(no_residual, y0, yp0, 0, {1.0}), std::invalid_argument);
+  EXPECT_THROW(IntegrateDae(zero_dimension, Eigen::VectorXd(), Eigen::VectorXd(), 0, {1.0}),
+               std::invalid_argument);
+  EXPECT_THROW(IntegrateDae(good, y0, Vec({0}), 0, {1.0}), std::invalid_argument);
+  EXPECT_THROW(IntegrateDae(good, y0, Vec({kNaN, 0}), 0, {1.0}), std::invalid_argument);
+  EXPECT_THROW(IntegrateDae(good, Vec({kNaN, 0}), yp0, 0, {1.0}), std::invalid_argument);
+  EXPECT_THROW(IntegrateDae(good, y0, yp0, 0, {1.0, 0.5}), std::invalid_argument);
+  IntegratorOptions options;
+  options.max_order = 6;  // IDA is BDF: at most 5, whatever method says.
+  EXPECT_THROW(IntegrateDae(good, y0, yp0, 0, {1.0}, options), std::invalid_argument);
+  options = IntegratorOptions();
+  options.absolute_tolerance = -1;
+  EXPECT_THROW(IntegrateDae(good, y0, yp0, 0, {1.0}, options), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rmhb::integrators
