@@ -92,7 +92,7 @@ ExampleSetup VanDerPol(const Values& p) {
   };
   const double period_guess = 2 * M_PI + 1.614 * eps;  // sinusoid + relaxation estimate
   e.guess = GuessFromSimulation(rhs, Eigen::Vector2d(2.0, 0.0), period_guess, 3,
-                                HarmonicBasis::Periodic(std::min(200, e.default_order)),
+                                HarmonicBasis::Periodic(e.default_order),
                                 s.variables(), [](const Eigen::VectorXd& y) { return y; });
   e.problem.frequencies = e.guess.frequencies();
   e.original.names = {"x", "x'"};

@@ -109,7 +109,8 @@ HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& proble
   // the quadratic convergence region of the large system.
   if (options.order_continuation && options.samples.empty() && options.rule == SamplingRule::kRhb) {
     std::vector<int> orders;
-    for (int o = options.order / 3; o >= 8 && o > initial_guess.basis().order(); o /= 3)
+    // Orders at or below the guess's own resolution would only truncate it.
+    for (int o = options.order / 2; o >= 8 && o > initial_guess.basis().order(); o /= 2)
       orders.insert(orders.begin(), o);
     for (int o : orders) {
       HarmonicBalanceOptions coarse = options;

@@ -42,6 +42,9 @@ Eigen::VectorXd RegularizedStep(const Eigen::MatrixXd& JtJ, const Eigen::VectorX
   return -ldlt.solve(JtF);
 }
 
+SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
+                        const SolverOptions& options);
+
 }  // namespace
 
 const char* ToString(SolverMethod m) {
@@ -105,6 +108,30 @@ std::string SolverSummary::FullReport() const {
 
 SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
                              const SolverOptions& options) {
+  if (options.method != SolverMethod::kAuto) return SolveWith(problem, x, options);
+  // Newton (Gauss-Newton when overdetermined) converges quadratically and is
+  // the fastest from a good guess; Levenberg-Marquardt is the robust fallback
+  // from the same start when it fails.
+  const Eigen::VectorXd start = *x;
+  SolverOptions o = options;
+  o.method = SolverMethod::kNewton;
+  SolverSummary newton = SolveWith(problem, x, o);
+  if (newton.converged() || newton.status == SolverStatus::kInvalidInput) return newton;
+  *x = start;
+  o.method = SolverMethod::kLevenbergMarquardt;
+  SolverSummary lm = SolveWith(problem, x, o);
+  lm.iterations += newton.iterations;
+  lm.evaluations += newton.evaluations;
+  lm.seconds += newton.seconds;
+  lm.message = "Newton failed (" + newton.message + "); Levenberg-Marquardt: " +
+               (lm.message.empty() ? std::string("converged") : lm.message);
+  return lm;
+}
+
+namespace {
+
+SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
+                        const SolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SolverSummary s;
   s.num_unknowns = problem.num_unknowns();
@@ -125,10 +152,7 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
                       std::to_string(s.num_unknowns) + " unknowns");
   if (!Finite(*x)) return finish(SolverStatus::kInvalidInput, "initial guess is not finite");
 
-  SolverMethod method = options.method;
-  if (method == SolverMethod::kAuto)
-    method = s.num_residuals == s.num_unknowns ? SolverMethod::kNewton
-                                               : SolverMethod::kLevenbergMarquardt;
+  const SolverMethod method = options.method;
   s.method = method;
 
   Eigen::VectorXd F(s.num_residuals), Ftrial(s.num_residuals), xtrial;
@@ -151,6 +175,7 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
     }
     Eigen::VectorXd dx;
     bool accepted = false;
+    double damping = 1.0;
     double trial_norm = norm;
     if (method == SolverMethod::kNewton) {
       if (!factored) {
@@ -160,17 +185,23 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
       }
       dx = factorization.Step(F);
       if (!Finite(dx)) return finish(SolverStatus::kFailure, "singular Jacobian (Newton step is not finite); try --solver lm");
-      // Backtracking on |F|^2; a full step is always tried first so that the
-      // quadratic convergence near the solution is kept.
-      const double f2 = F.squaredNorm();
+      // Damping by Deuflhard's natural monotonicity test: accept x + t dx
+      // when the simplified Newton correction |J^-1 F(x + t dx)| shrinks by
+      // (1 - t/4). It is affine invariant, so the harmonic balance rows that
+      // scale with k w do not dominate the test the way they dominate |F|^2,
+      // and full steps are taken far earlier. The full step comes first.
+      const double dx_norm = dx.norm();
       for (double t = 1.0; t > 1e-4; t *= 0.5) {
         xtrial = *x + t * dx;
         ++s.evaluations;
-        if (problem.Evaluate(xtrial, &Ftrial, nullptr) && Finite(Ftrial) &&
-            Ftrial.squaredNorm() < (1 - 1e-4 * t) * f2) {
-          accepted = true;
-          dx *= t;
-          break;
+        if (problem.Evaluate(xtrial, &Ftrial, nullptr) && Finite(Ftrial)) {
+          const double simplified = factorization.Step(Ftrial).norm();
+          if (simplified <= (1 - 0.25 * t) * dx_norm) {
+            accepted = true;
+            dx *= t;
+            damping = t;
+            break;
+          }
         }
         if (chord) break;  // a stale Jacobian: refresh rather than backtrack
       }
@@ -254,8 +285,8 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
     s.final_step = MaxAbs(dx);
     s.residual_history.push_back(trial_norm);
     if (options.verbose)
-      std::fprintf(stderr, "  iter %3d  max|F| %.3e  step %.3e\n", s.iterations, trial_norm,
-                   s.final_step);
+      std::fprintf(stderr, "  iter %3d  max|F| %.3e  step %.3e  damping %.3g%s\n", s.iterations,
+                   trial_norm, s.final_step, damping, chord ? " (chord)" : "");
     stalled = trial_norm > 0.5 * norm ? stalled + 1 : 0;
     norm = trial_norm;
     s.final_residual = norm;
@@ -282,4 +313,5 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
   return finish(SolverStatus::kConverged, "");
 }
 
+}  // namespace
 }  // namespace rmhb

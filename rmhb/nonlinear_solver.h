@@ -38,7 +38,8 @@ const char* ToString(SolverMethod method);
 SolverMethod ParseSolverMethod(const std::string& name);
 
 struct SolverOptions {
-  // kAuto: Newton for square systems, Levenberg-Marquardt otherwise.
+  // kAuto: Newton (Gauss-Newton if overdetermined); on failure, Levenberg-
+  // Marquardt from the same starting point.
   SolverMethod method = SolverMethod::kAuto;
   int max_iterations = 100;
   // Converged when max|F| <= residual_tolerance, or when the step is below

@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "examples/example_system.h"
-#include "integrators/validation.h"
+#include "integrators/trajectory_validation.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/harmonic_balance.h"
 
@@ -70,6 +70,8 @@ void AddSolveOptions(CLI::App* app, SolveArgs* a) {
                   "newton, lm (Levenberg-Marquardt), tikhonov, or auto (Newton when square, "
                   "L-M otherwise)")
       ->check(CLI::IsMember({"auto", "newton", "lm", "tikhonov"}));
+  app->add_option("--max-iterations", a->max_iterations, "Nonlinear solver iteration limit (default 100)")
+      ->check(CLI::Range(1, 100000));
   app->add_flag("--allow-aliasing", a->allow_aliasing, "Accept M below the alias-free bound");
   app->add_flag("--validate", a->validate,
                 "Integrate the original equations with SUNDIALS from the solution's initial "
@@ -105,8 +107,10 @@ int RunSolve(const SolveArgs& a) {
     auto [name, v] = ParseAssignment(s);
     values[name] = v;
   }
-  if (a.order < 0) throw std::invalid_argument("--order must be >= 1");
-  if (a.samples < 0) throw std::invalid_argument("--samples must be >= 1");
+  if (a.order != -1 && a.order < 1)
+    throw std::invalid_argument("--order must be >= 1 (got " + std::to_string(a.order) + ")");
+  if (a.samples != -1 && a.samples < 1)
+    throw std::invalid_argument("--samples must be >= 1 (got " + std::to_string(a.samples) + ")");
   examples::ExampleSetup setup = examples::BuildExample(a.model, values);
 
   HarmonicBalanceOptions options;
@@ -115,6 +119,7 @@ int RunSolve(const SolveArgs& a) {
   if (a.samples > 0) options.samples = {a.samples};
   options.allow_aliasing = a.allow_aliasing;
   options.solver.method = ParseSolverMethod(a.solver);
+  options.solver.max_iterations = a.max_iterations;
   const HarmonicBalanceSummary summary = SolveHarmonicBalance(setup.problem, setup.guess, options);
   const HarmonicSolution& sol = *summary.solution;
   const bool converged = summary.converged();

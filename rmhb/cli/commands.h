@@ -13,10 +13,11 @@ namespace rmhb::cli {
 struct SolveArgs {
   std::string model;
   std::vector<std::string> set;  // name=value
-  int order = 0;                 // 0: the example's default
-  int samples = 0;               // 0: by the method's rule
+  int order = -1;                // -1: the example's default
+  int samples = -1;              // -1: by the method's rule
   std::string method = "rhb";
   std::string solver = "auto";
+  int max_iterations = 100;
   bool allow_aliasing = false;
   bool validate = false;
   int validate_periods = 1;

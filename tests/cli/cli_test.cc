@@ -1,0 +1,115 @@
+// The command line as a script sees it: exit codes, JSON fields, messages.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out;  // stdout and stderr together
+};
+
+CliRun Cli(const std::string& args) {
+  const std::string cmd = std::string(RMHB_CLI) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+nlohmann::json Json(const std::string& args) {
+  const std::string cmd = std::string(RMHB_CLI) + " " + args;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
+  pclose(pipe);
+  return nlohmann::json::parse(out);
+}
+
+TEST(Cli, SolveJsonHasTheDocumentedFields) {
+  const auto j = Json("solve pendulum --set theta0=1.5 --order 25 --json --validate");
+  EXPECT_EQ(j["status"], "converged");
+  for (const char* key : {"frequencies", "order", "samples", "iterations", "residual", "seconds",
+                          "coefficients", "auxiliary_coefficients", "validation", "reference"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["order"], 25);
+  EXPECT_EQ(j["coefficients"]["theta"]["cos"].size(), 26u);
+  EXPECT_EQ(j["coefficients"]["theta"]["sin"][0], 0.0);
+  EXPECT_TRUE(j["auxiliary_coefficients"].contains("s"));
+  EXPECT_FALSE(j["coefficients"].contains("s"));
+  EXPECT_NEAR(j["frequencies"][0].get<double>(), 0.860608346679612985103549304862, 1e-13);
+  EXPECT_NEAR(j["coefficients"]["theta"]["cos"][1].get<double>(), 1.52004746521332765948913464242, 1e-13);
+  EXPECT_LT(j["validation"]["max_error"].get<double>(), 1e-9);  // CVODE's own accuracy
+  EXPECT_LT(std::abs(j["reference"]["frequency_error"].get<double>()), 1e-13);
+}
+
+TEST(Cli, MethodsAndSolversAreSelectable) {
+  const auto hdhb = Json("solve duffing --order 5 --method hdhb --json");
+  EXPECT_EQ(hdhb["samples"], 11);
+  EXPECT_EQ(hdhb["alias_free"], false);
+  const auto aft = Json("solve duffing --order 5 --method aft --json");
+  EXPECT_EQ(aft["samples"], 32);
+  const auto lm = Json("solve relativistic --order 20 --solver lm --json");
+  EXPECT_EQ(lm["status"], "converged");
+  EXPECT_EQ(lm["solver"], "lm");
+}
+
+TEST(Cli, BadInputGivesAClearMessageAndExitCode) {
+  CliRun r = Cli("solve pendulim");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("unknown example 'pendulim'"), std::string::npos) << r.out;
+  r = Cli("solve pendulum --set theta=1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("no parameter 'theta'"), std::string::npos) << r.out;
+  r = Cli("solve pendulum --set theta0=abc");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("not a number"), std::string::npos) << r.out;
+  r = Cli("solve pendulum --set theta0=nan");
+  EXPECT_EQ(r.code, 2);
+  r = Cli("solve pendulum --order 0");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("order"), std::string::npos) << r.out;
+  r = Cli("solve duffing --order 5 --samples 12");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("alias"), std::string::npos) << r.out;
+  r = Cli("solve pendulum --method magic");
+  EXPECT_EQ(r.code, 1);
+  r = Cli("frobnicate");
+  EXPECT_EQ(r.code, 1);
+  r = Cli("");
+  EXPECT_EQ(r.code, 1);
+}
+
+TEST(Cli, NonConvergenceIsReportedWithTheResidual) {
+  // Far too few iterations to converge from the starting guess.
+  CliRun r = Cli("solve vanderpol --set eps=1 --order 10 --max-iterations 1");
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("not converged"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("max|F|"), std::string::npos) << r.out;
+  const auto j = Json("solve vanderpol --set eps=1 --order 10 --max-iterations 1 --json");
+  EXPECT_NE(j["status"], "converged");
+  EXPECT_FALSE(j.contains("coefficients"));
+  EXPECT_TRUE(j["residual"].is_number());
+}
+
+TEST(Cli, HelpAndListWork) {
+  CliRun r = Cli("--help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("Exit codes"), std::string::npos);
+  r = Cli("solve --help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("--validate"), std::string::npos);
+  const auto list = Json("list --json");
+  EXPECT_GE(list.size(), 5u);
+}
+
+}  // namespace
