@@ -97,7 +97,9 @@ ExampleSetup VanDerPol(const Values& p) {
   e.problem.frequencies = e.guess.frequencies();
   e.original.names = {"x", "x'"};
   e.original.rhs = rhs;
-  e.original.stiff = eps > 5;
+  // Adams at rtol 1e-13 beats BDF (order <= 5) by orders of magnitude here
+  // until the relaxation gets really stiff.
+  e.original.stiff = eps > 20;
   e.original.state = [](const HarmonicSolution& h, double t) {
     return Eigen::Vector2d(h.Value(0, t), h.Value(1, t)).eval();
   };
