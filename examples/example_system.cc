@@ -247,6 +247,106 @@ ExampleSetup RayleighPlesset(const Values& p) {
   return e;
 }
 
+// Asymmetric pendulum (25): second derivatives inside the nonlinear terms,
+// kept implicit (phi = 3): with x' = p, y' = q,
+//   p' + (1-k) x + (1-k)(x p^2 + x q^2 + x y q' + x^2 p') = 0
+//   q' + y + (y q^2 + y p^2 + x y p' + y^2 q') = 0.
+// Quasi-periodic on a 2-torus: both base frequencies unknown, the initial
+// state (4 conditions) fixes the torus and its phases; overdetermined by two
+// but consistent (two phase symmetries, two actions).
+ExampleSetup AsymmetricPendulum(const Values& p) {
+  const double k = p.at("kappa"), x0 = p.at("x0"), y0 = p.at("y0");
+  if (!(k >= 0 && k < 1)) throw std::invalid_argument("asym-pendulum: kappa must be in [0, 1)");
+  if (!(std::abs(x0) < 0.5 && std::abs(y0) < 0.5 && x0 != 0 && y0 != 0))
+    throw std::invalid_argument("asym-pendulum: need 0 < |x0|, |y0| < 0.5");
+  PolynomialSystem s;
+  s.AddVariable("x");
+  s.AddVariable("y");
+  s.AddVariable("p", VariableRole::kState, "x'");
+  s.AddVariable("q", VariableRole::kState, "y'");
+  const Polynomial x = P(s, "x"), y = P(s, "y"), vp = P(s, "p"), vq = P(s, "q");
+  const Polynomial dp = s.D("p"), dq = s.D("q");
+  s.AddEquation(s.D("x") - vp);
+  s.AddEquation(s.D("y") - vq);
+  s.AddEquation(dp + (1 - k) * x + (1 - k) * (x * vp * vp + x * vq * vq + x * y * dq + x * x * dp));
+  s.AddEquation(dq + y + (y * vq * vq + y * vp * vp + x * y * dp + y * y * dq));
+  // Linear frequencies with the leading amplitude correction of (26) are a
+  // good enough start; the solve finds the true ones.
+  const double w1 = std::sqrt(1 - k) * (1 - 0.5 * y0 * y0 - 0.25 * x0 * x0);
+  const double w2 = 1 - 0.5 * x0 * x0 - 0.25 * y0 * y0;
+  std::vector<PointCondition> conditions = {
+      PointCondition::Value(0, x0, "x(0) = x0"), PointCondition::Value(1, y0, "y(0) = y0"),
+      PointCondition::Value(2, 0.0, "x'(0) = 0"), PointCondition::Value(3, 0.0, "y'(0) = 0")};
+  ExampleSetup e{{s, {w1, w2}, {true, true}, conditions},
+                 HarmonicSolution::FromAngles(
+                     HarmonicBasis::Diamond(2, 1), {w1, w2}, s.variables(),
+                     [=](const std::vector<double>& th) {
+                       Eigen::Vector4d v(x0 * std::cos(th[0]), y0 * std::cos(th[1]),
+                                         -x0 * w1 * std::sin(th[0]), -y0 * w2 * std::sin(th[1]));
+                       return Eigen::VectorXd(v);
+                     }),
+                 {},
+                 {},
+                 9};
+  e.original.names = {"x", "y", "x'", "y'"};
+  // The second derivatives appear linearly: solve the 2x2 mass-matrix system.
+  e.original.rhs = [k](double, const double* z, double* dz) {
+    const double x = z[0], y = z[1], p = z[2], q = z[3];
+    const double a11 = 1 + (1 - k) * x * x, a12 = (1 - k) * x * y;
+    const double a21 = x * y, a22 = 1 + y * y;
+    const double b1 = -(1 - k) * (x + x * p * p + x * q * q);
+    const double b2 = -(y + y * q * q + y * p * p);
+    const double det = a11 * a22 - a12 * a21;
+    dz[0] = p;
+    dz[1] = q;
+    dz[2] = (b1 * a22 - a12 * b2) / det;
+    dz[3] = (a11 * b2 - a21 * b1) / det;
+  };
+  e.original.state = [](const HarmonicSolution& h, double t) {
+    return Eigen::Vector4d(h.Value(0, t), h.Value(1, t), h.Value(2, t), h.Value(3, t)).eval();
+  };
+  return e;
+}
+
+// Forced Van der Pol x'' - eps (1 - x^2) x' + x = F cos(w t): with the
+// forcing away from the natural frequency and not too strong, the response
+// is quasi-periodic: base w1 = w (known, the forcing) and w2 near the limit
+// cycle's frequency (unknown). One phase condition x'(0) = 0 fixes theta_2.
+ExampleSetup ForcedVanDerPol(const Values& p) {
+  const double eps = p.at("eps"), F = p.at("F"), w = p.at("w");
+  if (!(eps > 0) || eps > 10) throw std::invalid_argument("forced-vanderpol: eps must be in (0, 10]");
+  if (!(w > 0)) throw std::invalid_argument("forced-vanderpol: w must be > 0");
+  PolynomialSystem s;
+  s.AddVariable("x");
+  s.AddVariable("u", VariableRole::kState, "x'");
+  const Polynomial x = P(s, "x"), u = P(s, "u");
+  s.AddEquation(s.D("x") - u);
+  s.AddEquation(s.D("u") - eps * u + x + eps * x * x * u - Polynomial::Cos({1, 0}, F));
+  // Guess: the forced linear response plus the free limit cycle (amplitude ~2).
+  const double forced = F / (1 - w * w);
+  const double w2 = 1.0 - eps * eps / 16.0;
+  ExampleSetup e{{s, {w, w2}, {false, true}, {PointCondition::Value(1, 0.0, "x'(0) = 0 (phase of theta_2)")}},
+                 HarmonicSolution::FromAngles(
+                     HarmonicBasis::Diamond(2, 3), {w, w2}, s.variables(),
+                     [=](const std::vector<double>& th) {
+                       Eigen::Vector2d v(forced * std::cos(th[0]) + 2 * std::cos(th[1]),
+                                         -forced * w * std::sin(th[0]) - 2 * w2 * std::sin(th[1]));
+                       return Eigen::VectorXd(v);
+                     }),
+                 {},
+                 {},
+                 12};
+  e.original.names = {"x", "x'"};
+  e.original.rhs = [=](double t, const double* y, double* dy) {
+    dy[0] = y[1];
+    dy[1] = eps * (1 - y[0] * y[0]) * y[1] - y[0] + F * std::cos(w * t);
+  };
+  e.original.state = [](const HarmonicSolution& h, double t) {
+    return Eigen::Vector2d(h.Value(0, t), h.Value(1, t)).eval();
+  };
+  return e;
+}
+
 }  // namespace
 
 const std::vector<Example>& AllExamples() {
@@ -270,6 +370,15 @@ const std::vector<Example>& AllExamples() {
         {"C", 2.0, "gas pressure term"}, {"D", -1.0, "ambient pressure term"},
         {"E", 0.2, "acoustic forcing amplitude"}, {"w", 2.0, "forcing frequency"}},
        RayleighPlesset},
+      {"asym-pendulum", "Asymmetric spherical pendulum (quasi-periodic, two unknown bases)",
+       "x'' + (1-k) x = -(1-k)(x x'^2 + x y'^2 + x y y'' + x^2 x''), "
+       "y'' + y = -(y y'^2 + y x'^2 + x y x'' + y^2 y'')",
+       {{"kappa", 0.01, "asymmetry"}, {"x0", 0.1, "x(0), x'(0) = 0"}, {"y0", 0.2, "y(0), y'(0) = 0"}},
+       AsymmetricPendulum},
+      {"forced-vanderpol", "Forced Van der Pol oscillator (quasi-periodic when not locked)",
+       "x'' - eps (1 - x^2) x' + x = F cos(w t)",
+       {{"eps", 0.2, "nonlinear damping"}, {"F", 0.5, "forcing amplitude"}, {"w", 2.3, "forcing frequency"}},
+       ForcedVanDerPol},
   };
   return examples;
 }

@@ -66,14 +66,43 @@ HarmonicBalanceSummary SolveAtOrder(const HarmonicBalanceProblem& problem,
       throw std::invalid_argument("give one sample count per base frequency");
     summary.samples = options.samples;
   }
-  for (int b = 0; b < d; ++b)
+  Sampling sampling = d == 1 ? Sampling::Uniform(summary.samples[0])
+                             : Sampling::Torus(summary.samples);
+  if (d > 1 && options.quasi_periodic_sampling == QuasiPeriodicSampling::kGcd) {
+    // One angle phi over 2 pi / gcd: harmonic k lands on r.k; the alias bound
+    // is Theorem 1's on that 1-D spectrum (Theorem 2).
+    const std::vector<int> r =
+        RationalRatios(problem.frequencies, options.gcd_tolerance, options.max_samples);
+    long reach = 0, forcing = 0;
+    for (const auto& k : basis.harmonics()) {
+      long v = 0;
+      for (int b = 0; b < d; ++b) v += long(r[b]) * k[b];
+      reach = std::max(reach, std::labs(v));
+    }
+    for (int b = 0; b < d; ++b) forcing += long(r[b]) * problem.system.ForcingReach(b);
+    const long needed = (summary.degree + 1) * reach + forcing + 1;
+    if (needed > options.max_samples)
+      throw std::invalid_argument(
+          "GCD rule needs " + std::to_string(needed) + " samples (ratios " + std::to_string(r[0]) +
+          ":" + std::to_string(r[1]) + "), over the limit of " + std::to_string(options.max_samples) +
+          "; use the torus grid");
+    const int m = options.samples.empty() ? FftFriendlySize(static_cast<int>(needed)) : summary.samples[0];
+    summary.alias_free_samples = {static_cast<int>(needed)};
+    summary.samples = {m};
+    summary.alias_free = m >= needed;
+    sampling = Sampling::Gcd(m, r);
+  }
+  long total = 1;
+  for (int m : summary.samples) total *= m;
+  if (total > options.max_samples)
+    throw std::invalid_argument("the sampling needs " + std::to_string(total) +
+                                " samples, over the limit of " + std::to_string(options.max_samples));
+  for (size_t b = 0; b < summary.samples.size(); ++b)
     summary.alias_free = summary.alias_free && summary.samples[b] >= summary.alias_free_samples[b];
   if (!summary.alias_free && !options.allow_aliasing && options.rule != SamplingRule::kHdhb)
     throw std::invalid_argument(
         "samples below the alias-free bound (" + std::to_string(summary.alias_free_samples[0]) +
         "); aliasing gives non-physical solutions. Use the hdhb method or allow aliasing explicitly");
-  const Sampling sampling = d == 1 ? Sampling::Uniform(summary.samples[0])
-                                   : Sampling::Torus(summary.samples);
   summary.sampling = sampling.description;
 
   CollocationResidual residual(problem, basis, sampling);

@@ -22,6 +22,12 @@ namespace rmhb {
 
 enum class BasisShape { kDiamond, kBox };
 
+// Quasi-periodic sampling (METHOD.md s.6). Both are the same projection when
+// alias-free; the torus grid costs prod_i M_i with M_i > (phi+1)p whatever
+// the frequencies, the GCD rule (Theorem 2) needs M > (phi+1) p max(r_i) over
+// one period 2 pi / gcd(w), huge for close or nearly irrational frequencies.
+enum class QuasiPeriodicSampling { kTorus, kGcd };
+
 struct HarmonicBalanceOptions {
   int order = 10;  // N for one base, p for several
   BasisShape shape = BasisShape::kDiamond;
@@ -31,6 +37,9 @@ struct HarmonicBalanceOptions {
   // non-physical solutions (METHOD.md s.2).
   std::vector<int> samples;
   bool allow_aliasing = false;
+  QuasiPeriodicSampling quasi_periodic_sampling = QuasiPeriodicSampling::kTorus;
+  double gcd_tolerance = 1e-12;   // relative, for the rational approximation of w_i/w_1
+  long max_samples = 20'000'000;  // refuse larger grids up front (memory)
   // Solve at lower orders first (N/4, N/2, ...) and warm-start: a high-order
   // solve then needs one or two iterations of the large system.
   bool order_continuation = true;

@@ -1,5 +1,7 @@
 #include "rmhb/sampling.h"
 
+#include <cmath>
+#include <numeric>
 #include <stdexcept>
 
 namespace rmhb {
@@ -47,6 +49,50 @@ Sampling Sampling::Torus(const std::vector<int>& samples) {
 Sampling Sampling::Gcd(int samples, const std::vector<int>& ratios) {
   if (samples < 1) throw std::invalid_argument("Sampling: need at least one sample");
   return {{samples}, {ratios}, "GCD rule, " + std::to_string(samples) + " samples"};
+}
+
+std::vector<int> RationalRatios(const std::vector<double>& w, double tolerance, long max_ratio) {
+  if (w.empty()) throw std::invalid_argument("RationalRatios: no frequencies");
+  // Continued fraction of each w_i / w_0 until it is within tolerance; the
+  // common denominator then gives integer ratios r_i.
+  std::vector<long> num(w.size()), den(w.size());
+  for (size_t i = 0; i < w.size(); ++i) {
+    const double x = w[i] / w[0];
+    long h0 = 1, h1 = 0, k0 = 0, k1 = 1;  // convergents h/k
+    double r = x;
+    bool found = false;
+    for (int it = 0; it < 64; ++it) {
+      const double a = std::floor(r);
+      const long h = static_cast<long>(a) * h0 + h1, k = static_cast<long>(a) * k0 + k1;
+      h1 = h0; h0 = h; k1 = k0; k0 = k;
+      if (k > max_ratio || h > max_ratio) break;
+      if (std::abs(double(h) / double(k) - x) <= tolerance * x) {
+        found = true;
+        break;
+      }
+      if (r - a < 1e-300) break;
+      r = 1.0 / (r - a);
+    }
+    if (!found)
+      throw std::invalid_argument(
+          "GCD rule: frequency ratio " + std::to_string(x) + " has no rational approximation "
+          "with terms up to " + std::to_string(max_ratio) + " within relative tolerance " +
+          std::to_string(tolerance) + "; use the torus grid");
+    num[i] = h0;
+    den[i] = k0;
+  }
+  long common = 1;
+  for (long d : den) common = common / std::gcd(common, d) * d;
+  std::vector<int> ratios(w.size());
+  long g = 0;
+  for (size_t i = 0; i < w.size(); ++i) {
+    const long r = num[i] * (common / den[i]);
+    if (r > max_ratio) throw std::invalid_argument("GCD rule: ratios exceed " + std::to_string(max_ratio) + "; use the torus grid");
+    ratios[i] = static_cast<int>(r);
+    g = std::gcd(g, r);
+  }
+  for (int& r : ratios) r = static_cast<int>(r / g);
+  return ratios;
 }
 
 int FftFriendlySize(int m) {

@@ -43,6 +43,13 @@ struct Sampling {
   static Sampling Gcd(int samples, const std::vector<int>& ratios);
 };
 
+// Theorem 2 (GCD rule): w_i ~= r_i g with small integers r_i, from continued
+// fractions of w_i / w_1 within `tolerance` (relative). Throws
+// std::invalid_argument, saying why, when no such ratios exist with
+// denominators up to `max_ratio` (irrational-looking or too close).
+std::vector<int> RationalRatios(const std::vector<double>& frequencies, double tolerance,
+                                long max_ratio);
+
 // Smallest n >= m whose prime factors are 2, 3, 5, 7 (fast FFTW sizes).
 int FftFriendlySize(int m);
 
