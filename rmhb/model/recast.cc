@@ -1,6 +1,7 @@
 #include "rmhb/model/recast.h"
 
 #include <cmath>
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <set>
@@ -67,14 +68,17 @@ class Recaster {
   RecastResult Run() {
     RecastResult result;
     result.model_name = model_.name;
+    result.source = model_.source;
     result.parameters = values_;
 
     // 1. Recast every equation (creates auxiliaries and their equations).
     std::vector<ex> user;
     for (std::size_t i = 0; i < s_.equations.size(); ++i) {
       source_ = static_cast<int>(i);
-      ex e = Substituted(s_.equations[i]);
-      user.push_back(R(e));
+      Guarded([&] {
+        ex e = Substituted(s_.equations[i]);
+        user.push_back(R(e));
+      });
     }
     source_ = -1;
 
@@ -90,8 +94,8 @@ class Recaster {
       }
     }
     for (auto& a : aux_) {
-      a.index = system.AddVariable(a.name, VariableRole::kAuxiliary, internal::Str(a.definition));
-      result.definitions.push_back(a.name + " = " + internal::Str(a.definition));
+      a.index = system.AddVariable(a.name, VariableRole::kAuxiliary, internal::Print(a.definition));
+      result.definitions.push_back(a.name + " = " + internal::Print(a.definition));
     }
     for (std::size_t v = 0; v < chain_.size(); ++v) {
       const int L = chain_[v];
@@ -112,13 +116,27 @@ class Recaster {
                            Polynomial::Variable(chain_index[v][j + 1]));
     for (std::size_t i = 0; i < user.size(); ++i) {
       source_ = static_cast<int>(i);
-      system.AddEquation(P(user[i]));
+      Guarded([&] { system.AddEquation(P(user[i])); });
     }
+    in_auxiliary_ = true;
     for (const auto& eq : equations_) {
       source_ = eq.source;
-      system.AddEquation(P(eq.lhs), eq.balance_constant);
+      Guarded([&] { system.AddEquation(P(eq.lhs), eq.balance_constant); });
     }
+    in_auxiliary_ = false;
     source_ = -1;
+    for (int i = 0; i < static_cast<int>(user.size()); ++i) {
+      const int row = static_cast<int>(system.num_equations() - equations_.size() - user.size()) + i;
+      if (system.equations()[row].lhs.IsZero()) {
+        source_ = i;
+        Fail("the equation vanishes with these parameter values");
+      }
+    }
+    try {
+      system.Validate();
+    } catch (const std::invalid_argument& e) {
+      Fail(std::string("the recast system is not valid with these parameter values: ") + e.what());
+    }
     result.degree = system.Degree();
 
     // 4. Frequencies and conditions.
@@ -126,18 +144,27 @@ class Recaster {
     result.problem.unknown_frequency = bases_.unknown;
     for (std::size_t i = 0; i < s_.conditions.size(); ++i) {
       condition_ = static_cast<int>(i);
-      ex c = Substituted(s_.conditions[i]);
-      result.problem.conditions.push_back(
-          MakeCondition(c, model_.conditions[i].text));
+      Guarded([&] {
+        ex c = Substituted(s_.conditions[i]);
+        result.problem.conditions.push_back(MakeCondition(c, model_.conditions[i].text));
+      });
     }
     condition_ = -1;
     result.num_user_conditions = static_cast<int>(result.problem.conditions.size());
     for (const auto& a : aux_) {
       if (!a.pinned) continue;
       source_ = a.source;
-      const ex def = a.definition.subs(s_.t == 0);
-      result.problem.conditions.push_back(
-          MakeCondition(a.sym - def, "pin " + a.name + "(0) = " + internal::Str(def)));
+      ex def;
+      try {
+        def = a.definition.subs(s_.t == 0);
+      } catch (const std::exception& err) {
+        Fail("the auxiliary " + a.name + " = " + internal::Print(a.definition) +
+             " is undefined at t = 0, where it must be pinned (" + err.what() + ")");
+      }
+      Guarded([&] {
+        result.problem.conditions.push_back(
+            MakeCondition(a.sym - def, "pin " + a.name + "(0) = " + internal::Print(def)));
+      });
     }
     source_ = -1;
 
@@ -182,6 +209,19 @@ class Recaster {
       throw ModelError(message + " in equation " + std::to_string(source_ + 1),
                        model_.equations[source_].where, symbol);
     throw ModelError(message, {model_.source, 0, 0}, symbol);
+  }
+
+  // Runs f, turning exceptions from GiNaC (pole errors, overflow) into a
+  // ModelError located at the current equation or condition.
+  template <class F>
+  void Guarded(F f) {
+    try {
+      f();
+    } catch (const ModelError&) {
+      throw;
+    } catch (const std::exception& err) {
+      Fail(err.what());
+    }
   }
 
   ex Substituted(const ex& e) const {
@@ -356,19 +396,32 @@ class Recaster {
       r = e;
     } else if (is_a<GiNaC::add>(e)) {
       r = 0;
-      for (std::size_t i = 0; i < e.nops(); ++i) r += R(e.op(i));
+      for (const ex& op : SortedOperands(e)) r += R(op);
     } else if (is_a<GiNaC::mul>(e)) {
       r = 1;
-      for (std::size_t i = 0; i < e.nops(); ++i) r *= R(e.op(i));
+      for (const ex& op : SortedOperands(e)) r *= R(op);
     } else if (is_a<GiNaC::power>(e)) {
       r = RPower(e.op(0), e.op(1));
     } else if (is_a<GiNaC::function>(e)) {
       r = RFunction(e);
     } else {
-      Fail("cannot recast " + internal::Str(e));
+      Fail("cannot recast " + internal::Print(e));
     }
     cache_[e] = r;
     return r;
+  }
+
+  // Operands in the order of their printed form: GiNaC's own order follows
+  // hash values of symbols, which differ from run to run, and would make the
+  // numbering of the auxiliaries irreproducible.
+  static std::vector<ex> SortedOperands(const ex& e) {
+    std::vector<std::pair<std::string, ex>> keyed;
+    for (std::size_t i = 0; i < e.nops(); ++i) keyed.emplace_back(internal::Print(e.op(i)), e.op(i));
+    std::stable_sort(keyed.begin(), keyed.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<ex> out;
+    for (auto& k : keyed) out.push_back(k.second);
+    return out;
   }
 
   ex RPower(const ex& base, const ex& exponent) {
@@ -376,7 +429,7 @@ class Recaster {
     if (!is_a<GiNaC::numeric>(exponent)) {  // x^pi
       const ex g = R(base);
       const ex r = Reciprocal(g);
-      return Differential("pow" + internal::Str(exponent), g, GiNaC::pow(g, exponent),
+      return Differential("pow" + internal::Print(exponent), g, GiNaC::pow(g, exponent),
                           [r, exponent](const ex& u, const ex& dg) { return exponent * dg * u * r; },
                           "pow");
     }
@@ -396,16 +449,24 @@ class Recaster {
     // deg(g') + 2 instead of beta^q - g = 0 of degree q).
     const ex g = R(base);
     const ex r = Reciprocal(g);
-    return Differential("pow" + internal::Str(exponent), g, GiNaC::pow(g, exponent),
+    return Differential("pow" + internal::Print(exponent), g, GiNaC::pow(g, exponent),
                         [r, exponent](const ex& u, const ex& dg) { return exponent * dg * u * r; },
                         "pow");
   }
 
   ex RFunction(const ex& f) {
     const std::string name = GiNaC::ex_to<GiNaC::function>(f).get_name();
-    if (f.nops() != 1) Fail("unsupported function " + internal::Str(f), name);
+    if (f.nops() != 1) Fail("unsupported function " + internal::Print(f), name);
     const ex& arg = f.op(0);
-    if ((name == "sin" || name == "cos") && FreeOfDynamic(arg)) return f;  // forcing
+    if ((name == "sin" || name == "cos") && FreeOfDynamic(arg)) {
+      std::vector<int> k;
+      ex phase;
+      if (internal::AnalyzeHarmonic(arg, s_.t, bases_, &k, &phase)) return f;  // forcing
+      if (!arg.diff(s_.t).has(s_.t))  // linear in t, but not a harmonic
+        Fail(internal::Print(f) + " is not a harmonic of the base frequencies: time may only "
+             "appear as cos(k*w*t + phase), sin(k*w*t + phase) with integer k");
+      // Otherwise (cos(cos(w t)), ...): an auxiliary like any other.
+    }
     const ex g = R(arg);
     if (name == "exp")
       return Differential("exp", g, GiNaC::exp(g), [](const ex& u, const ex& dg) { return dg * u; });
@@ -451,10 +512,14 @@ class Recaster {
   double ConstantValue(const ex& e) const {
     for (const auto& w : unknown_bases_)
       if (e.has(w))
-        Fail("the unknown base frequency '" + internal::Str(w) +
-                 "' appears outside cos/sin(k*" + internal::Str(w) +
-                 "*t); the solver treats a frequency only through time derivatives and forcing",
-             internal::Str(w));
+        Fail("the unknown base frequency '" + internal::Print(w) +
+                 "' appears outside cos/sin(k*" + internal::Print(w) +
+                 "*t); the solver treats a frequency only through time derivatives and forcing" +
+                 (in_auxiliary_ ? std::string(" (here through the time derivative of a nonlinear "
+                                              "function of a forcing term: such forcing needs a "
+                                              "known frequency)")
+                                : std::string()),
+             internal::Print(w));
     try {
       return internal::EvaluateConstant(e.subs(bases_.KnownValues()));
     } catch (const std::exception& err) {
@@ -473,7 +538,7 @@ class Recaster {
         Fail("explicit time 't' may only appear in forcing terms cos(k*w*t), sin(k*w*t) (the "
              "response must be periodic)",
              "t");
-      Fail("internal: unmapped symbol " + internal::Str(e));
+      Fail("internal: unmapped symbol " + internal::Print(e));
     }
     if (is_a<GiNaC::add>(e)) {
       Polynomial sum;
@@ -499,19 +564,19 @@ class Recaster {
       ex phase;
       if ((name == "sin" || name == "cos") &&
           internal::AnalyzeHarmonic(e.op(0), s_.t, bases_, &k, &phase)) {
-        const double ph = ConstantValue(phase);
-        const double c = std::cos(ph), s = std::sin(ph);
+        // cos/sin of the phase symbolically first: cos(pi/2) is exactly 0.
+        const double c = ConstantValue(GiNaC::cos(phase)), s = ConstantValue(GiNaC::sin(phase));
         if (name == "cos") return Polynomial::Cos(k, c) - Polynomial::Sin(k, s);
         return Polynomial::Sin(k, c) + Polynomial::Cos(k, s);
       }
-      Fail(internal::Str(e) + " is not a harmonic of the base frequencies: time may only appear as " +
+      Fail(internal::Print(e) + " is not a harmonic of the base frequencies: time may only appear as " +
            "cos(k*w*t + phase), sin(k*w*t + phase) with integer k");
     }
     if (FreeOfDynamic(e))
       Fail("explicit time 't' may only appear in forcing terms cos(k*w*t), sin(k*w*t) (found " +
-               internal::Str(e) + ")",
+               internal::Print(e) + ")",
            "t");
-    Fail("internal: not polynomial after the recast: " + internal::Str(e));
+    Fail("internal: not polynomial after the recast: " + internal::Print(e));
   }
 
   // ---- conditions -------------------------------------------------------------------
@@ -519,7 +584,7 @@ class Recaster {
     ex r = residual;
     if (r.has(s_.t)) r = r.subs(s_.t == 0);
     for (const auto& w : unknown_bases_)
-      if (r.has(w)) Fail("a condition cannot depend on the unknown base frequency '" + internal::Str(w) + "'");
+      if (r.has(w)) Fail("a condition cannot depend on the unknown base frequency '" + internal::Print(w) + "'");
     r = r.subs(bases_.KnownValues());
     // Inputs: the symbols present, mapped to z(0) or z'(0).
     std::vector<ex> inputs;
@@ -531,7 +596,7 @@ class Recaster {
       }
     for (const auto& [sym, ref] : user_sym_)
       if (r.has(sym) && !slots_.count(sym))
-        Fail("'" + internal::Str(sym) + "' at t = 0 is beyond the states of the recast system");
+        Fail("'" + internal::Print(sym) + "' at t = 0 is beyond the states of the recast system");
     std::vector<ex> outputs{r};
     for (const ex& in : inputs) outputs.push_back(r.diff(GiNaC::ex_to<GiNaC::symbol>(in)));
     std::shared_ptr<const CompiledFunction> tape;
@@ -560,42 +625,50 @@ class Recaster {
   }
 
   // ---- guess --------------------------------------------------------------------------
+  // The guess is evaluated numerically in sequence: the user variables and
+  // their derivatives (symbolic derivatives of the guess expressions) from the
+  // angles, then each auxiliary's definition on the values before it. A guess
+  // outside a definition's domain (log of a negative value, 1/0) gives a
+  // non-finite value that InitialGuess reports, instead of failing here.
   std::function<Eigen::VectorXd(const std::vector<double>&)> BuildGuess(
       const PolynomialSystem& system) {
     const int d = static_cast<int>(bases_.symbols.size());
     std::vector<GiNaC::symbol> angles;
     for (int i = 0; i < d; ++i) angles.emplace_back("theta" + std::to_string(i + 1));
-    // Values of the user derivative symbols and auxiliaries as functions of t.
-    GiNaC::exmap of_t;
+    // Inputs of every tape: the angles, the user derivative symbols, the
+    // auxiliaries; outputs of the first tape: the user derivative values.
+    std::vector<ex> inputs(angles.begin(), angles.end());
+    std::vector<ex> user_values;
+    std::vector<int> output_variable;  // recast variable of each user value, or -1
     for (std::size_t v = 0; v < chain_.size(); ++v) {
       ex g = Substituted(s_.guess[v]);
       for (int j = 0; j <= chain_[v]; ++j) {
-        of_t[s_.derivatives[v][j]] = g;
+        const ex& sym = s_.derivatives[v][j];
+        inputs.push_back(sym);
+        user_values.push_back(g);
+        const SlotRef ref = slots_.at(sym);
+        output_variable.push_back(ref.derivative ? -1 : ref.variable);
         g = g.diff(s_.t);
       }
     }
-    std::vector<ex> outputs(system.num_variables(), ex(0));
-    for (std::size_t v = 0; v < chain_.size(); ++v)
-      for (int j = 0; j < chain_[v]; ++j) {
-        const SlotRef ref = slots_.at(s_.derivatives[v][j]);
-        outputs[ref.variable] = of_t.at(s_.derivatives[v][j]);
-      }
-    for (const auto& a : aux_) {
-      const ex value = a.definition.subs(of_t, GiNaC::subs_options::no_pattern);
-      of_t[a.sym] = value;
-      outputs[a.index] = value;
-    }
-    std::vector<ex> inputs(angles.begin(), angles.end());
+    for (const auto& a : aux_) inputs.push_back(a.sym);
+    struct Guess {
+      CompiledFunction user;
+      std::vector<CompiledFunction> aux;
+      std::vector<int> output_variable;
+      std::vector<int> aux_variable;
+      int num_angles, num_inputs, num_variables;
+    };
+    auto guess = std::make_shared<Guess>();
     try {
-      for (auto& o : outputs) o = internal::ToAngles(o, s_.t, bases_, angles);
-      auto tape = std::make_shared<const CompiledFunction>(internal::Compile(outputs, inputs));
-      const int n = system.num_variables();
-      return [tape, n](const std::vector<double>& theta) {
-        Eigen::VectorXd out(n);
-        std::vector<double> work;
-        tape->Evaluate(theta.data(), out.data(), &work);
-        return out;
-      };
+      std::vector<ex> angle_inputs(angles.begin(), angles.end());
+      for (auto& u : user_values) u = internal::ToAngles(u, s_.t, bases_, angles);
+      guess->user = internal::Compile(user_values, angle_inputs);
+      for (const auto& a : aux_) {
+        guess->aux.push_back(
+            internal::Compile({internal::ToAngles(a.definition, s_.t, bases_, angles)}, inputs));
+        guess->aux_variable.push_back(a.index);
+      }
     } catch (const ModelError&) {
       throw;
     } catch (const std::exception& err) {
@@ -603,6 +676,25 @@ class Recaster {
                        model_.guess.empty() ? SourceLocation{model_.source, 0, 0}
                                             : model_.guess.front().second.where);
     }
+    guess->output_variable = output_variable;
+    guess->num_angles = d;
+    guess->num_inputs = static_cast<int>(inputs.size());
+    guess->num_variables = system.num_variables();
+    return [guess](const std::vector<double>& theta) {
+      std::vector<double> in(guess->num_inputs), work;
+      for (int i = 0; i < guess->num_angles; ++i) in[i] = theta[i];
+      double* user = in.data() + guess->num_angles;
+      guess->user.Evaluate(theta.data(), user, &work);
+      Eigen::VectorXd out = Eigen::VectorXd::Zero(guess->num_variables);
+      for (std::size_t k = 0; k < guess->output_variable.size(); ++k)
+        if (guess->output_variable[k] >= 0) out(guess->output_variable[k]) = user[k];
+      double* aux = user + guess->output_variable.size();
+      for (std::size_t a = 0; a < guess->aux.size(); ++a) {
+        guess->aux[a].Evaluate(in.data(), aux + a, &work);
+        out(guess->aux_variable[a]) = aux[a];
+      }
+      return out;
+    };
   }
 
   std::optional<std::vector<double>> InitialState(const OriginalSystem& original) const {
@@ -672,6 +764,7 @@ class Recaster {
   std::set<std::string> taken_;
   int source_ = -1;
   int condition_ = -1;
+  bool in_auxiliary_ = false;  // converting an auxiliary's equation
 };
 
 }  // namespace
@@ -689,7 +782,7 @@ HarmonicSolution RecastResult::InitialGuess(const HarmonicBasis& basis) const {
                                 : "= " + problem.system.variables()[j].definition +
                                       " on the guessed states") +
                            ")",
-                       {}, problem.system.variables()[j].name);
+                       {source, 0, 0}, problem.system.variables()[j].name);
   return s;
 }
 

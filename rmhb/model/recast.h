@@ -17,8 +17,10 @@
 //    x y y'' is the cubic monomial x * y * (y_d1)'). x' counts one degree.
 //  - integer powers stay; 1/p: r with r p - 1 = 0 (when p has degree >= 2,
 //    first q = p with q - p = 0, keeping the degree at 2: the appendix form);
-//  - p^(a/b): beta with beta^b - p = 0, then beta^a (or (1/beta)^|a|);
-//    other real exponents, and x^y: exp(y log x);
+//  - p^(a/b) with b <= 4: beta with beta^b - p = 0, then beta^a (or
+//    (1/beta)^|a|); other real exponents n (0.3, pi): u = p^n through
+//    u' - n p' u r = 0 with r = 1/p (pinned), which keeps the degree at
+//    deg(p') + 2 instead of b; variable exponents p^q: exp(q log p);
 //  - exp, log, sin & cos (a pair), tan, asin, acos, atan, sinh & cosh (a
 //    pair), tanh through their derivative (the appendix table of the paper):
 //    u = exp(g): u' - g' u = 0, s = sin g, c = cos g: s' - g' c, c' + g' s,
@@ -33,8 +35,13 @@
 //    core's time functions, never auxiliaries.
 //  - identical subexpressions are recast once (memo on the expression and on
 //    the recast argument of every rule).
+//  - a transcendental function of the top derivative (sin(x') in a first-order
+//    equation) needs x'': the chain grows by one state (x_d1) for it.
 // Variable order: the user variables with their derivative chains (x, x_d1,
-// y, y_d1, ...), then the auxiliaries in order of creation.
+// y, y_d1, ...), then the auxiliaries in order of creation (reproducible:
+// operands are visited in the order of their printed form, not GiNaC's
+// hash order). Auxiliary names say what they hold: sin_x, inv_R, sqrt_1,
+// den_1 (a named denominator), pow_x, ...
 //
 // Errors (unknown parameter override, a base frequency <= 0, explicit time
 // outside harmonic forcing, an unknown base frequency in a coefficient, ...)
@@ -57,6 +64,7 @@ namespace rmhb::model {
 
 struct RecastResult {
   std::string model_name;
+  std::string source;          // the model's file name, for error messages
   ParameterValues parameters;  // the values used (defaults with overrides)
   // System, base frequencies (values or guesses), unknown flags, conditions:
   // the user's conditions first, then the pinning conditions.

@@ -194,7 +194,7 @@ class Parser {
         continue;
       }
       if (IsOperator(")")) break;
-      if (current_.kind == TokenKind::kEnd)
+      if (current_.kind == TokenKind::kEnd || IsOperator("="))
         throw ParseError{open, "missing ')' for the '(' here", ""};
       throw ParseError{current_.offset, "expected ',' or ')' in the arguments of " + name, ""};
     }

@@ -1,6 +1,8 @@
 #include "rmhb/model/internal/symbolic_tools.h"
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "rmhb/model/internal/compile.h"
@@ -115,6 +117,140 @@ bool AnalyzeHarmonic(const ex& arg, const GiNaC::symbol& t, const Bases& bases,
         }
   }
   return false;
+}
+
+namespace {
+
+bool IsNegativeNumber(const ex& e) {
+  return GiNaC::is_a<GiNaC::numeric>(e) && GiNaC::ex_to<GiNaC::numeric>(e).is_real() &&
+         GiNaC::ex_to<GiNaC::numeric>(e).is_negative();
+}
+
+// e = sign * rest with rest printing without a leading minus.
+bool SplitSign(const ex& e, ex* rest) {
+  if (IsNegativeNumber(e)) {
+    *rest = -e;
+    return true;
+  }
+  if (GiNaC::is_a<GiNaC::mul>(e)) {
+    for (std::size_t i = 0; i < e.nops(); ++i)
+      if (IsNegativeNumber(e.op(i))) {
+        *rest = -e;
+        return true;
+      }
+  }
+  *rest = e;
+  return false;
+}
+
+std::string PrintNumber(const GiNaC::numeric& n) {
+  std::ostringstream out;
+  if (n.is_rational() || !n.is_real()) {
+    out << ex(n);
+  } else {
+    out.precision(17);
+    out << n.to_double();
+  }
+  return out.str();
+}
+
+// Precedence: 0 sum, 1 product/quotient, 2 power, 3 atom.
+int Precedence(const ex& e) {
+  if (GiNaC::is_a<GiNaC::add>(e)) return 0;
+  if (GiNaC::is_a<GiNaC::mul>(e)) return 1;
+  if (GiNaC::is_a<GiNaC::numeric>(e)) {
+    const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(e);
+    if (n.is_negative()) return 0;
+    return n.is_integer() ? 3 : 1;
+  }
+  if (GiNaC::is_a<GiNaC::power>(e)) {
+    const ex& x = e.op(1);
+    if (x == GiNaC::numeric(1, 2)) return 3;  // sqrt(...)
+    if (IsNegativeNumber(x)) return 1;        // 1/...
+    return 2;
+  }
+  return 3;
+}
+
+std::string Wrapped(const ex& e, int min_precedence) {
+  const std::string s = Print(e);
+  return Precedence(e) < min_precedence ? "(" + s + ")" : s;
+}
+
+}  // namespace
+
+std::string Print(const ex& e) {
+  using GiNaC::is_a;
+  if (is_a<GiNaC::numeric>(e)) return PrintNumber(GiNaC::ex_to<GiNaC::numeric>(e));
+  if (is_a<GiNaC::symbol>(e)) return GiNaC::ex_to<GiNaC::symbol>(e).get_name();
+  if (is_a<GiNaC::constant>(e)) return e == GiNaC::Pi ? "pi" : Str(e);
+  if (is_a<GiNaC::add>(e)) {
+    std::vector<std::pair<std::string, bool>> terms;  // (positive form, negative)
+    std::string constant;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      ex rest;
+      const bool negative = SplitSign(e.op(i), &rest);
+      std::string text = Wrapped(rest, 1);
+      if (is_a<GiNaC::numeric>(e.op(i))) constant = (negative ? " - " : " + ") + text;
+      else terms.emplace_back(text, negative);
+    }
+    std::sort(terms.begin(), terms.end());
+    // The constant first: "1 + x^2", "-1 + x*y".
+    std::string out = constant.empty() ? "" : constant.substr(constant[1] == '-' ? 1 : 3);
+    for (const auto& [text, negative] : terms)
+      out += out.empty() ? (negative ? "-" : "") + text : (negative ? " - " : " + ") + text;
+    return out;
+  }
+  if (is_a<GiNaC::mul>(e)) {
+    ex rest;
+    if (SplitSign(e, &rest)) return "-" + Wrapped(rest, 1);
+    std::string coefficient;
+    std::vector<std::string> numerator, denominator;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const ex& f = e.op(i);
+      if (is_a<GiNaC::numeric>(f)) {
+        const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(f);
+        if (n.is_rational() && !n.is_integer()) {
+          if (n.numer() != 1) coefficient = PrintNumber(n.numer());
+          denominator.push_back(PrintNumber(n.denom()));
+        } else {
+          coefficient = PrintNumber(n);
+        }
+      } else if (is_a<GiNaC::power>(f) && IsNegativeNumber(f.op(1))) {
+        denominator.push_back(Wrapped(GiNaC::pow(f.op(0), -f.op(1)), 2));
+      } else {
+        numerator.push_back(Wrapped(f, 1));
+      }
+    }
+    std::sort(numerator.begin(), numerator.end());
+    std::sort(denominator.begin(), denominator.end());
+    std::string out = coefficient;
+    for (const auto& f : numerator) out += (out.empty() ? "" : "*") + f;
+    if (out.empty()) out = "1";
+    if (!denominator.empty()) {
+      std::string d;
+      for (const auto& f : denominator) d += (d.empty() ? "" : "*") + f;
+      out += "/" + (denominator.size() > 1 ? "(" + d + ")" : d);
+    }
+    return out;
+  }
+  if (is_a<GiNaC::power>(e)) {
+    const ex& base = e.op(0);
+    const ex& exponent = e.op(1);
+    if (exponent == GiNaC::numeric(1, 2)) return "sqrt(" + Print(base) + ")";
+    if (IsNegativeNumber(exponent)) return "1/" + Wrapped(GiNaC::pow(base, -exponent), 2);
+    std::string x = Print(exponent);
+    if (!(is_a<GiNaC::numeric>(exponent) && GiNaC::ex_to<GiNaC::numeric>(exponent).is_integer()) &&
+        !is_a<GiNaC::symbol>(exponent))
+      x = "(" + x + ")";
+    return Wrapped(base, 3) + "^" + x;
+  }
+  if (is_a<GiNaC::function>(e)) {
+    std::string out = GiNaC::ex_to<GiNaC::function>(e).get_name() + "(";
+    for (std::size_t i = 0; i < e.nops(); ++i) out += (i ? ", " : "") + Print(e.op(i));
+    return out + ")";
+  }
+  return Str(e);
 }
 
 namespace {

@@ -35,6 +35,14 @@ Bases EvaluateBases(const ModelDefinition& model, const ParameterValues& values)
 bool AnalyzeHarmonic(const GiNaC::ex& arg, const GiNaC::symbol& t, const Bases& bases,
                      std::vector<int>* k, GiNaC::ex* phase);
 
+// A deterministic, readable form of e: operands of sums and products sorted
+// by their own printed form (GiNaC orders them by hash values, which depend
+// on the order symbols were created in the process), quotients and square
+// roots written as such: "1/(1 + x^2)", "sqrt(1 - x'^2)", "x*y - 2*z".
+// The recast also uses it to visit operands in a reproducible order, so the
+// numbering of auxiliaries does not depend on what ran before.
+std::string Print(const GiNaC::ex& e);
+
 // Rewrites an expression of t as a function of the torus angles:
 // cos(k.w t + phase) -> cos(k.theta + phase); with one base any remaining t
 // becomes theta_1 / w_1. Base symbols are replaced by their values. Throws
