@@ -46,13 +46,17 @@ std::function<void(double, const double*, double*)> MakeRhs(
   const int m = static_cast<int>(orders.size());
   int n = 0;
   for (int o : orders) n += o;
-  struct Work {
-    std::vector<double> in, out, tape;
-  };
-  auto work = std::make_shared<Work>();
-  work->in.resize(1 + n + frequencies.size());
-  work->out.resize(m * m + m);
-  return [tape, orders, frequencies, work, m, n](double t, const double* y, double* ydot) {
+  const std::size_t num_in = 1 + n + frequencies.size(), num_out = m * m + m;
+  return [tape, orders, frequencies, m, n, num_in, num_out](double t, const double* y, double* ydot) {
+    // Per-thread buffers: no allocation after the first call, and several
+    // threads may integrate with the same system.
+    struct Work {
+      std::vector<double> in, out, tape;
+    };
+    thread_local Work work_buffers;
+    Work* work = &work_buffers;
+    if (work->in.size() < num_in) work->in.resize(num_in);
+    if (work->out.size() < num_out) work->out.resize(num_out);
     double* in = work->in.data();
     in[0] = t;
     for (int i = 0; i < n; ++i) in[1 + i] = y[i];

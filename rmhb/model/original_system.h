@@ -23,7 +23,8 @@
 // Newton solve per evaluation and have no unique solution in general.
 //
 // If M is singular at a state, rhs fills ydot with NaN (the integrator then
-// reports the failure).
+// reports the failure). rhs is thread-safe (per-thread work buffers) and
+// allocation-free after its first call in a thread.
 
 #include <functional>
 #include <memory>
@@ -58,7 +59,8 @@ struct OriginalSystem {
   // Rebinds rhs to other base frequency values (e.g. the solved ones).
   void BindFrequencies(const std::vector<double>& frequencies);
 
-  // Shared evaluator; rhs captures it with its own work buffer.
+  // The compiled evaluator rhs uses: inputs (t, y, frequencies), outputs
+  // the mass matrix M (row-major) then b.
   std::shared_ptr<const CompiledFunction> mass_and_rhs;  // outputs: M (row-major), then b
   std::vector<int> orders;  // order of each user variable
 };

@@ -605,21 +605,20 @@ class Recaster {
     } catch (const std::exception& err) {
       Fail(err.what());
     }
-    auto work = std::make_shared<std::vector<double>>();
-    auto in = std::make_shared<std::vector<double>>(inputs.size());
-    auto out = std::make_shared<std::vector<double>>(outputs.size());
     PointCondition c;
     c.description = description;
-    c.function = [tape, refs, work, in, out](const Eigen::VectorXd& z, const Eigen::VectorXd& dz,
-                                             Eigen::VectorXd* gz, Eigen::VectorXd* gdz) {
+    // Called once per solver iteration: local buffers keep it thread-safe.
+    c.function = [tape, refs](const Eigen::VectorXd& z, const Eigen::VectorXd& dz,
+                              Eigen::VectorXd* gz, Eigen::VectorXd* gdz) {
+      std::vector<double> in(refs.size()), out(refs.size() + 1), work;
       for (std::size_t i = 0; i < refs.size(); ++i)
-        (*in)[i] = refs[i].derivative ? dz(refs[i].variable) : z(refs[i].variable);
-      tape->Evaluate(in->data(), out->data(), work.get());
+        in[i] = refs[i].derivative ? dz(refs[i].variable) : z(refs[i].variable);
+      tape->Evaluate(in.data(), out.data(), &work);
       for (std::size_t i = 0; i < refs.size(); ++i) {
         Eigen::VectorXd* g = refs[i].derivative ? gdz : gz;
-        if (g) (*g)(refs[i].variable) += (*out)[i + 1];
+        if (g) (*g)(refs[i].variable) += out[i + 1];
       }
-      return (*out)[0];
+      return out[0];
     };
     return c;
   }

@@ -1,6 +1,9 @@
 #include "rmhb/model/internal/compile.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -15,24 +18,47 @@ std::string Str(const ex& e) {
   return out.str();
 }
 
+namespace {
+
+// At most ~80 characters of an expression, for messages.
+std::string Short(const ex& e) {
+  std::string s = Str(e);
+  return s.size() <= 80 ? s : s.substr(0, 40) + " ... " + s.substr(s.size() - 20);
+}
+
+}  // namespace
+
 double EvaluateConstant(const ex& e) {
   ex v;
   try {
     v = e.evalf();
   } catch (const std::exception& err) {
-    throw std::invalid_argument("cannot evaluate " + Str(e) + ": " + err.what());
+    throw std::invalid_argument("cannot evaluate " + Short(e) + ": " + err.what());
   }
   if (!GiNaC::is_a<GiNaC::numeric>(v))
-    throw std::invalid_argument("'" + Str(e) + "' is not a number");
+    throw std::invalid_argument("'" + Short(e) + "' is not a number");
   const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(v);
-  if (!n.is_real()) throw std::invalid_argument("'" + Str(e) + "' is not real");
+  if (!n.is_real()) {
+    // GiNaC takes the principal (complex) root of a negative number; the
+    // recast and the tapes use the real odd root, (-8)^(1/3) = -2.
+    double d = std::numeric_limits<double>::quiet_NaN();
+    if (!GiNaC::is_a<GiNaC::numeric>(e)) {  // a complex number itself stays complex
+      try {
+        d = Compile({e}, {})(std::vector<double>{})[0];
+      } catch (const std::exception&) {
+      }
+    }
+    if (std::isfinite(d)) return d;
+    throw std::invalid_argument("'" + Short(e) + "' is not real");
+  }
   double d;
   try {
     d = n.to_double();
   } catch (const std::exception&) {
-    throw std::invalid_argument("'" + Str(e) + "' overflows a double");
+    throw std::invalid_argument("'" + Short(e) + "' is beyond the range of double");
   }
-  if (!std::isfinite(d)) throw std::invalid_argument("'" + Str(e) + "' is not finite");
+  if (!std::isfinite(d))
+    throw std::invalid_argument("'" + Short(e) + "' is beyond the range of double");
   return d;
 }
 
@@ -61,12 +87,16 @@ class TapeBuilder {
     return static_cast<int>(f_.code_.size()) - 1;
   }
   int Constant(double v) {
-    auto it = constants_.find(v);
-    if (it != constants_.end() && !std::signbit(v)) return it->second;
+    // Keyed by the bit pattern: NaN and -0.0 are distinct constants (a map
+    // of doubles would take NaN as equivalent to every key).
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    auto it = constants_.find(bits);
+    if (it != constants_.end()) return it->second;
     Instruction in{Op::kConst};
     in.value = v;
     const int r = Emit(in);
-    constants_[v] = r;
+    constants_[bits] = r;
     return r;
   }
   bool IsConst(int r) const { return f_.code_[r].op == Op::kConst; }
@@ -162,7 +192,7 @@ class TapeBuilder {
 
   CompiledFunction f_;
   std::map<ex, int, GiNaC::ex_is_less> memo_;
-  std::map<double, int> constants_;
+  std::map<std::uint64_t, int> constants_;
 };
 
 CompiledFunction Compile(const std::vector<ex>& outputs, const std::vector<ex>& inputs) {
