@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 namespace rmhb::model::internal {
@@ -388,9 +389,9 @@ class Parser {
       throw ParseError{i, "use a single '=' in equations", ""};
     static const std::string single = "+-*/^(),=";
     if (single.find(c) == std::string::npos) {
-      std::string shown = std::isprint(static_cast<unsigned char>(c))
-                              ? std::string(1, c)
-                              : "\\x" + std::to_string(static_cast<unsigned char>(c));
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned char>(c));
+      const std::string shown = std::isprint(static_cast<unsigned char>(c)) ? std::string(1, c) : hex;
       if (c == '\'') throw ParseError{i, "a prime must follow a variable name", ""};
       throw ParseError{i, "unexpected character '" + shown + "'", ""};
     }
