@@ -1,0 +1,55 @@
+#ifndef RMHB_MODEL_COMPILED_FUNCTION_H_
+#define RMHB_MODEL_COMPILED_FUNCTION_H_
+
+// A vector function R^n -> R^m compiled from symbolic expressions into a
+// tape: a postorder list of operations on doubles over the expression DAG
+// (shared subexpressions computed once), evaluated in a plain loop. The
+// integrators call the original equations millions of times; walking GiNaC
+// trees (reference counts, virtual dispatch, exact arithmetic) per call would
+// dominate. Built by the model layer (see internal/compile.h); evaluation
+// needs no GiNaC.
+//
+// Evaluation is const and writes only to the caller's work buffer, so one
+// CompiledFunction may be shared; give every thread its own buffer.
+
+#include <cstdint>
+#include <vector>
+
+namespace rmhb::model {
+
+namespace internal {
+class TapeBuilder;
+}
+
+class CompiledFunction {
+ public:
+  int num_inputs() const { return num_inputs_; }
+  int num_outputs() const { return static_cast<int>(outputs_.size()); }
+  int size() const { return static_cast<int>(code_.size()); }  // instructions
+
+  // outputs[i] = f_i(inputs). `work` is resized to size() on first use.
+  void Evaluate(const double* inputs, double* outputs, std::vector<double>* work) const;
+  // Convenience (allocates).
+  std::vector<double> operator()(const std::vector<double>& inputs) const;
+
+ private:
+  friend class internal::TapeBuilder;
+  enum class Op : std::uint8_t {
+    kConst, kInput, kAdd, kSub, kMul, kDiv, kNeg, kPowInt, kPowReal, kSqrt, kRealRoot,
+    kSin, kCos, kTan, kExp, kLog, kAsin, kAcos, kAtan, kSinh, kCosh, kTanh,
+  };
+  struct Instruction {
+    Op op;
+    int a = -1;  // operand registers
+    int b = -1;
+    int n = 0;         // integer exponent (kPowInt), root index (kRealRoot)
+    double value = 0;  // constant (kConst), power (kRealRoot)
+  };
+  int num_inputs_ = 0;
+  std::vector<Instruction> code_;
+  std::vector<int> outputs_;  // register of each output
+};
+
+}  // namespace rmhb::model
+
+#endif  // RMHB_MODEL_COMPILED_FUNCTION_H_
