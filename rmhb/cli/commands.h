@@ -23,11 +23,24 @@ struct SolveArgs {
   int validate_periods = 1;
   bool json = false;
   bool quiet = false;
+  std::string frequencies;  // "w1,w2"; "?w" marks an unknown with guess w
+  std::string sampling = "torus";
+  std::string shape = "diamond";
+  std::string eval;         // "t0:dt:t1"
+  std::string csv;          // file for --eval
+};
+
+struct RecastArgs {
+  std::string model;
+  std::vector<std::string> set;
+  bool json = false;
 };
 
 void AddSolveOptions(CLI::App* app, SolveArgs* args);
 int RunSolve(const SolveArgs& args);
 int RunList(bool json);
+void AddRecastOptions(CLI::App* app, RecastArgs* args);
+int RunRecast(const RecastArgs& args);
 
 // "name=value" -> (name, value); throws std::invalid_argument saying which
 // argument is malformed or not a finite number.

@@ -10,6 +10,7 @@
 
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
+#include "rmhb/model/model_error.h"
 
 int main(int argc, char** argv) {
   using namespace rmhb::cli;
@@ -24,10 +25,16 @@ int main(int argc, char** argv) {
   SolveArgs solve;
   CLI::App* solve_cmd = app.add_subcommand(
       "solve",
-      "Solve for a periodic steady state of a bundled example.\n"
+      "Solve for a periodic or quasi-periodic steady state of an example or model file.\n"
       "Prints the frequency, the harmonic coefficients and, with --validate, the maximum\n"
       "error against a SUNDIALS integration of the ORIGINAL equations.");
   AddSolveOptions(solve_cmd, &solve);
+
+  RecastArgs recast;
+  CLI::App* recast_cmd = app.add_subcommand(
+      "recast", "Print the polynomial (recast) system of an example or model file: variables,\n"
+                "definitions of the auxiliaries, equations, conditions and the degree phi.");
+  AddRecastOptions(recast_cmd, &recast);
 
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;
@@ -48,6 +55,10 @@ int main(int argc, char** argv) {
   try {
     if (*solve_cmd) return RunSolve(solve);
     if (*list_cmd) return RunList(list_json);
+    if (*recast_cmd) return RunRecast(recast);
+  } catch (const rmhb::model::ModelError& e) {
+    std::fprintf(stderr, "rmhb: error: %s\n", e.what());
+    return kExitBadInput;
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "rmhb: error: %s\n", e.what());
     return kExitBadInput;

@@ -1,0 +1,75 @@
+#include "rmhb/cli/problem_source.h"
+
+#include <sys/stat.h>
+
+#include <memory>
+
+#include "rmhb/model/model_definition.h"
+#include "rmhb/model/recast.h"
+
+namespace rmhb::cli {
+namespace {
+
+bool LooksLikeFile(const std::string& s) {
+  auto ends = [&](const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  struct stat st;
+  return s.find('/') != std::string::npos || ends(".yaml") || ends(".yml") ||
+         (stat(s.c_str(), &st) == 0 && S_ISREG(st.st_mode));
+}
+
+ProblemSource FromExample(const std::string& name, const std::map<std::string, double>& overrides) {
+  auto setup = std::make_shared<examples::ExampleSetup>(examples::BuildExample(name, overrides));
+  ProblemSource p;
+  p.name = name;
+  p.equation = examples::FindExample(name)->equation;
+  p.problem = setup->problem;
+  p.default_order = setup->default_order;
+  p.guess = [setup](int) { return setup->guess; };
+  p.original = [setup](const std::vector<double>&) {
+    return integrators::OdeSystem{setup->original.dimension(), setup->original.rhs};
+  };
+  p.state = setup->original.state;
+  p.state_names = setup->original.names;
+  p.stiff = setup->original.stiff;
+  p.reference = setup->reference;
+  p.recast_report = setup->problem.system.ToString();
+  return p;
+}
+
+ProblemSource FromFile(const std::string& path, const std::map<std::string, double>& overrides) {
+  const model::ModelDefinition definition = model::LoadModelFile(path);
+  auto recast = std::make_shared<model::RecastResult>(model::Recast(definition, overrides));
+  ProblemSource p;
+  p.name = recast->model_name;
+  p.from_file = true;
+  for (const auto& e : definition.equations) p.equation += (p.equation.empty() ? "" : "; ") + e.text;
+  p.problem = recast->problem;
+  p.default_order = p.problem.frequencies.size() == 1 ? 25 : 7;
+  p.guess = [recast](int order) { return recast->InitialGuess(order); };
+  if (recast->original) {
+    p.original = [recast](const std::vector<double>& w) {
+      model::OriginalSystem bound = *recast->original;
+      bound.BindFrequencies(w);
+      return integrators::OdeSystem{bound.dimension, bound.rhs};
+    };
+    p.state = [recast](const HarmonicSolution& s, double t) {
+      const std::vector<double> v = recast->original->StateFromSolution(s, t);
+      return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<long>(v.size())).eval();
+    };
+    p.state_names = recast->original->state_names;
+  } else {
+    p.original_error = recast->original_error;
+  }
+  p.recast_report = recast->Report();
+  return p;
+}
+
+}  // namespace
+
+ProblemSource LoadProblem(const std::string& model, const std::map<std::string, double>& overrides) {
+  return LooksLikeFile(model) ? FromFile(model, overrides) : FromExample(model, overrides);
+}
+
+}  // namespace rmhb::cli

@@ -1,0 +1,48 @@
+#ifndef RMHB_CLI_PROBLEM_SOURCE_H_
+#define RMHB_CLI_PROBLEM_SOURCE_H_
+
+// What the CLI works on, whatever it came from: a bundled example (hand-
+// written recast, exact references) or a model file (automatic recast). The
+// commands see one description: the harmonic balance problem, a starting
+// guess, the original equations for validation, and any exact reference.
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "examples/example_system.h"
+#include "integrators/ode_system.h"
+#include "rmhb/collocation_residual.h"
+#include "rmhb/harmonic_solution.h"
+
+namespace rmhb::cli {
+
+struct ProblemSource {
+  std::string name;
+  std::string equation;  // as the user wrote it
+  bool from_file = false;
+  HarmonicBalanceProblem problem;
+  int default_order = 20;
+  std::function<HarmonicSolution(int order)> guess;
+  // The original equations with the base frequencies bound to `w` (forcing
+  // terms need the solved values), and the state a solution predicts.
+  std::function<integrators::OdeSystem(const std::vector<double>& w)> original;
+  std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
+  std::vector<std::string> state_names;
+  bool stiff = false;
+  std::string original_error;  // why there is no original system, if so
+  examples::Reference reference;
+  std::string recast_report;   // the polynomial system, readable
+};
+
+// A path (contains '/' or ends in .yaml/.yml, or names an existing file) is
+// a model file; anything else an example name. Throws std::invalid_argument
+// (unknown example/parameter) or model::ModelError (file:line:column).
+ProblemSource LoadProblem(const std::string& model, const std::map<std::string, double>& overrides);
+
+}  // namespace rmhb::cli
+
+#endif  // RMHB_CLI_PROBLEM_SOURCE_H_
