@@ -101,6 +101,49 @@ TEST(Cli, NonConvergenceIsReportedWithTheResidual) {
   EXPECT_TRUE(j["residual"].is_number());
 }
 
+TEST(Cli, ModelFilesWorkWhereExamplesDo) {
+  const auto j = Json("solve examples/models/pendulum.yaml --order 25 --json");
+  EXPECT_EQ(j["status"], "converged");
+  EXPECT_NEAR(j["frequencies"][0].get<double>(), 0.860608346679612985103549304862, 1e-13);
+  EXPECT_EQ(j["harmonics"].size(), 26u);
+  const auto r = Json("recast examples/models/relativistic.yaml --json");
+  EXPECT_EQ(r["degree"], 4);
+  EXPECT_EQ(r["equations"].size(), 3u);
+  CliRun text = Cli("recast examples/models/pendulum.yaml");
+  EXPECT_EQ(text.code, 0);
+  EXPECT_NE(text.out.find("sin(theta)"), std::string::npos) << text.out;
+}
+
+TEST(Cli, ModelErrorsSayWhere) {
+  const std::string path = testing::TempDir() + "/bad_model.yaml";
+  FILE* f = fopen(path.c_str(), "w");
+  fputs("name: bad\nvariables: [x]\nequations:\n  - \"x'' + sin(thta) = 0\"\nfrequencies: [{guess: 1}]\n", f);
+  fclose(f);
+  const CliRun r = Cli("solve " + path);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("bad_model.yaml:4:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("thta"), std::string::npos) << r.out;
+  EXPECT_EQ(Cli("solve /nonexistent/model.yaml").code, 2);
+}
+
+TEST(Cli, EvalWritesTheTimeSeries) {
+  const std::string csv = testing::TempDir() + "/pendulum_series.csv";
+  const auto j = Json("solve pendulum --eval 0:0.5:10 --csv " + csv + " --json");
+  EXPECT_EQ(j["eval"]["points"], 21);
+  FILE* f = fopen(csv.c_str(), "r");
+  ASSERT_NE(f, nullptr);
+  char header[256];
+  ASSERT_NE(fgets(header, sizeof header, f), nullptr);
+  EXPECT_EQ(std::string(header), "t,theta,v,s,c\n");
+  double t, theta;
+  ASSERT_EQ(fscanf(f, "%lf,%lf", &t, &theta), 2);
+  EXPECT_EQ(t, 0.0);
+  EXPECT_NEAR(theta, 1.5, 1e-13);
+  fclose(f);
+  EXPECT_EQ(Cli("solve pendulum --eval 0:-1:10 --csv " + csv).code, 2);
+  EXPECT_EQ(Cli("solve pendulum --eval 0:1:10").code, 2);
+}
+
 TEST(Cli, HelpAndListWork) {
   CliRun r = Cli("--help");
   EXPECT_EQ(r.code, 0);
