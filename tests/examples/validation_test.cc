@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "examples/example_system.h"
+#include "integrators/event_detection.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/harmonic_balance.h"
 
@@ -63,6 +64,37 @@ INSTANTIATE_TEST_SUITE_P(
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
       return n;
     });
+
+}  // namespace
+}  // namespace rmhb
+
+namespace rmhb {
+namespace {
+
+// Van der Pol eps = 10 (relaxation): the period from harmonic balance against
+// the period CVODE measures between successive maxima of x once the orbit has
+// settled on the limit cycle (event detection polished to round-off).
+TEST(VanDerPolRelaxation, PeriodMatchesTightCvodeReference) {
+  const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", 10.0}});
+  integrators::OdeSystem ode{2, e.original.rhs};
+  integrators::IntegratorOptions io;
+  io.relative_tolerance = 1e-14;
+  io.absolute_tolerance = 1e-16;
+  const auto maxima = integrators::FindCrossings(
+      ode, Eigen::Vector2d(2.0, 0.0), 0.0, 12 * 19.1,
+      [](double, const double* y) { return y[1]; }, -1, io);
+  ASSERT_GE(maxima.size(), 8u);
+  // x' crosses zero downwards only at the maxima of x: one per period.
+  const double cvode_period = maxima[maxima.size() - 1] - maxima[maxima.size() - 2];
+  EXPECT_NEAR(cvode_period, 19.07836956693901407, 1e-9);  // CVODE itself, sanity
+
+  HarmonicBalanceOptions o;
+  o.order = 340;
+  const HarmonicBalanceSummary s = SolveHarmonicBalance(e.problem, e.guess, o);
+  ASSERT_TRUE(s.converged()) << s.FullReport();
+  const double hb_period = 2 * M_PI / s.solution->frequencies()[0];
+  EXPECT_NEAR(hb_period, cvode_period, 1e-10) << "CVODE " << cvode_period;
+}
 
 }  // namespace
 }  // namespace rmhb
