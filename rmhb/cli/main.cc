@@ -10,6 +10,7 @@
 
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
+#include "rmhb/cli/identify_command.h"
 #include "rmhb/model/model_error.h"
 
 int main(int argc, char** argv) {
@@ -36,6 +37,12 @@ int main(int argc, char** argv) {
                 "definitions of the auxiliaries, equations, conditions and the degree phi.");
   AddRecastOptions(recast_cmd, &recast);
 
+  IdentifyArgs identify;
+  CLI::App* identify_cmd = app.add_subcommand(
+      "identify", "Find the base frequencies and label every spectral component (m, n), from a\n"
+                  "sampled signal (--signal FILE.csv) or from a model's integrated trajectory.");
+  AddIdentifyOptions(identify_cmd, &identify);
+
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;
   list_cmd->add_flag("--json", list_json, "Machine-readable output");
@@ -56,6 +63,7 @@ int main(int argc, char** argv) {
     if (*solve_cmd) return RunSolve(solve);
     if (*list_cmd) return RunList(list_json);
     if (*recast_cmd) return RunRecast(recast);
+    if (*identify_cmd) return RunIdentify(identify);
   } catch (const rmhb::model::ModelError& e) {
     std::fprintf(stderr, "rmhb: error: %s\n", e.what());
     return kExitBadInput;

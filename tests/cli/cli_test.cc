@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <sys/wait.h>
@@ -142,6 +144,46 @@ TEST(Cli, EvalWritesTheTimeSeries) {
   fclose(f);
   EXPECT_EQ(Cli("solve pendulum --eval 0:-1:10 --csv " + csv).code, 2);
   EXPECT_EQ(Cli("solve pendulum --eval 0:1:10").code, 2);
+}
+
+TEST(Cli, IdentifyFindsTheBasesOfAUserSignal) {
+  // Two incommensurate bases and a combination tone stronger than w2.
+  const double w1 = 1.0, w2 = 0.5 * (1 + std::sqrt(5.0));
+  const std::string path = testing::TempDir() + "/quasi_periodic_signal.csv";
+  FILE* f = fopen(path.c_str(), "w");
+  fputs("t,x\n", f);
+  for (int i = 0; i < 40000; ++i) {
+    const double t = 0.1 * i;
+    fprintf(f, "%.17g,%.17g\n", t,
+            std::cos(w1 * t) + 0.01 * std::sin(w2 * t) + 0.2 * std::cos((2 * w1 - w2) * t + 0.3));
+  }
+  fclose(f);
+  const auto j = Json("identify --signal " + path + " --json");
+  EXPECT_EQ(j["status"], "SUCCESS") << j.dump(1);
+  ASSERT_EQ(j["bases"].size(), 2u);
+  // Any unimodular basis of the same lattice is right ({w1, 2 w1 - w2} is a
+  // natural one here): every line must be found, exactly, with a label that
+  // rebuilds its frequency from the bases.
+  const double b1 = j["bases"][0]["frequency"], b2 = j["bases"][1]["frequency"];
+  std::vector<double> lines;
+  for (const auto& c : j["components"]) {
+    ASSERT_EQ(c["label"].size(), 2u) << c.dump();
+    const double rebuilt = c["label"][0].get<int>() * b1 + c["label"][1].get<int>() * b2;
+    EXPECT_NEAR(rebuilt, c["frequency"].get<double>(), 1e-11);
+    lines.push_back(c["frequency"]);
+  }
+  std::sort(lines.begin(), lines.end());
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_NEAR(lines[0], 2 * w1 - w2, 1e-11);
+  EXPECT_NEAR(lines[1], w1, 1e-11);
+  EXPECT_NEAR(lines[2], w2, 1e-11);
+  // A malformed file names the line.
+  FILE* g = fopen((path + ".bad").c_str(), "w");
+  fputs("t,x\n0,1\n0.1,abc\n", g);
+  fclose(g);
+  const CliRun bad = Cli("identify --signal " + path + ".bad");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find(":3:"), std::string::npos) << bad.out;
 }
 
 TEST(Cli, HelpAndListWork) {

@@ -1,0 +1,138 @@
+#include "rmhb/cli/identify_command.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "frequency_id/frequency_identification.h"
+#include "frequency_id/signal_io.h"
+#include "integrators/cvode_integrator.h"
+#include "rmhb/cli/commands.h"
+#include "rmhb/cli/exit_codes.h"
+#include "rmhb/cli/problem_source.h"
+
+namespace rmhb::cli {
+namespace {
+
+using nlohmann::json;
+
+json Number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+// The model's own trajectory, sampled uniformly after the transient.
+frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known, double* seconds) {
+  std::map<std::string, double> values;
+  for (const auto& s : a.set) values.insert(ParseAssignment(s));
+  const ProblemSource source = LoadProblem(a.model, values);
+  if (!source.original) throw std::invalid_argument("cannot integrate the model: " + source.original_error);
+  const std::vector<double>& w = source.problem.frequencies;
+  for (size_t b = 0; b < w.size(); ++b)
+    if (source.problem.unknown_frequency.empty() || !source.problem.unknown_frequency[b]) known->push_back(w[b]);
+  const double w_max = *std::max_element(w.begin(), w.end());
+  const double w_min = *std::min_element(w.begin(), w.end());
+  double t_end = a.t_end;
+  if (t_end <= 0) {
+    // Enough periods for round-off refinement, and enough beats to separate
+    // close bases by many FFT bins.
+    t_end = 300 * 2 * M_PI / w_min;
+    for (size_t i = 0; i < w.size(); ++i)
+      for (size_t j = i + 1; j < w.size(); ++j)
+        t_end = std::max(t_end, 20 * 2 * M_PI / std::max(std::abs(w[i] - w[j]), 1e-12));
+  }
+  if (!std::isfinite(t_end) || t_end > 1e7) throw std::invalid_argument("--t-end is too large");
+  const double transient = a.transient >= 0 ? a.transient : 0.1 * t_end;
+  if (transient >= t_end) throw std::invalid_argument("--transient must be shorter than --t-end");
+  const double dt = 2 * M_PI / w_max / a.samples_per_period;
+  const long n = static_cast<long>((t_end - transient) / dt);
+  if (n > 20'000'000) throw std::invalid_argument("the record would need " + std::to_string(n) + " samples");
+  std::vector<double> times(n);
+  for (long i = 0; i < n; ++i) times[i] = transient + i * dt;
+  const HarmonicSolution guess = source.guess(5);
+  const Eigen::VectorXd y0 = source.state(guess, 0.0);
+  integrators::IntegratorOptions io;
+  io.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf
+                           : integrators::IntegratorOptions::Method::kAdams;
+  io.relative_tolerance = 1e-13;
+  io.absolute_tolerance = 1e-15;
+  const auto start = std::chrono::steady_clock::now();
+  const integrators::IntegrationResult r = integrators::IntegrateOde(source.original(w), y0, 0.0, times, io);
+  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!r.ok()) throw std::runtime_error("integration failed: " + r.message);
+  frequency_id::Signal signal;
+  signal.dt = dt;
+  signal.t0 = transient;
+  signal.samples = r.trajectory.states;
+  signal.channel_names = source.state_names;
+  return signal;
+}
+
+}  // namespace
+
+void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
+  app->add_option("model", a->model, "Example name or model file to integrate (or use --signal)");
+  app->add_option("--signal", a->signal, "CSV file: a time column, then one column per channel");
+  app->add_option("--set", a->set, "Override a model parameter: --set name=value");
+  app->add_option("--t-end", a->t_end, "Length of the integrated record (default: from the frequencies)");
+  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth)");
+  app->add_option("--samples-per-period", a->samples_per_period,
+                  "Samples per period of the fastest base (default 32)")
+      ->check(CLI::Range(4, 4096));
+  app->add_option("--window", a->window, "Hann^q window order q (0: chosen from the line spacing)")
+      ->check(CLI::Range(0, 8));
+  app->add_flag("--json", a->json, "Machine-readable output");
+}
+
+int RunIdentify(const IdentifyArgs& a) {
+  if (a.model.empty() == a.signal.empty())
+    throw std::invalid_argument("identify needs either a model or --signal FILE.csv");
+  frequency_id::Signal signal;
+  std::vector<double> known;
+  double integration_seconds = 0;
+  if (!a.signal.empty()) {
+    const frequency_id::CsvReadResult read = frequency_id::ReadSignalCsv(a.signal, &signal);
+    if (!read.ok()) throw std::invalid_argument(read.message);
+  } else {
+    signal = Simulate(a, &known, &integration_seconds);
+  }
+  frequency_id::IdentificationOptions options;
+  options.window_order = a.window;
+  options.bases.known_frequencies = known;
+  frequency_id::IdentificationSummary summary;
+  frequency_id::IdentifyFrequencies(options, signal, &summary);
+
+  json out;
+  out["status"] = ToString(summary.status);
+  out["message"] = summary.message;
+  json bases = json::array();
+  for (const auto& b : summary.bases)
+    bases.push_back({{"frequency", Number(b.frequency)}, {"uncertainty", Number(b.uncertainty)}, {"known", b.known}});
+  out["bases"] = bases;
+  json components = json::array();
+  for (const auto& c : summary.components) {
+    json amp = json::array(), phase = json::array();
+    for (int i = 0; i < c.amplitude.size(); ++i) amp.push_back(Number(c.amplitude(i)));
+    for (int i = 0; i < c.phase.size(); ++i) phase.push_back(Number(c.phase(i)));
+    components.push_back({{"frequency", Number(c.frequency)}, {"uncertainty", Number(c.frequency_uncertainty)},
+                          {"label", c.label}, {"amplitude", amp}, {"phase", phase}});
+  }
+  out["components"] = components;
+  out["channels"] = summary.channel_names;
+  out["samples"] = summary.num_samples;
+  out["duration"] = summary.duration;
+  out["seconds"] = {{"integration", integration_seconds}, {"identification", summary.total_seconds}};
+  if (a.json) {
+    std::cout << out.dump(1) << "\n";
+  } else {
+    std::printf("%s\n", summary.FullReport().c_str());
+    if (integration_seconds > 0)
+      std::printf("trajectory: CVODE, %d samples over %.6g time units, %.1f ms\n", summary.num_samples,
+                  summary.duration, integration_seconds * 1e3);
+  }
+  return summary.IsUsable() ? kExitOk : kExitNotConverged;
+}
+
+}  // namespace rmhb::cli
