@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
        [A_rel](const HarmonicSolution& s) { return std::abs(s.Amplitude(0) - A_rel); }},
       {"vanderpol", {{"eps", 1.0}}, {10, 20, 30, 40}, "|period - reference|",
        [](const HarmonicSolution& s) { return std::abs(2 * M_PI / s.frequencies()[0] - 6.6632868593231301897); }},
-      {"vanderpol", {{"eps", 10.0}}, {100, 200, 300, 340, 400}, "|period - reference|",
+      {"vanderpol", {{"eps", 10.0}}, {200, 300, 340}, "|period - reference|",
        [](const HarmonicSolution& s) { return std::abs(2 * M_PI / s.frequencies()[0] - 19.07836956693901407); }},
   };
   std::printf("%-14s %-5s %-9s %6s %6s %12s %12s %6s  %s\n", "system", "N", "solver", "M", "iters",
