@@ -121,7 +121,10 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
   SolverSummary newton = SolveWith(problem, x, o);
   if (newton.converged() || newton.status == SolverStatus::kInvalidInput) return newton;
   if (options.max_seconds > 0 && newton.seconds >= options.max_seconds) {
-    newton.message = "Newton failed (" + newton.message + "); no time left for the fallback";
+    std::ostringstream msg;
+    msg << "Newton failed (" << newton.message << "); the time budget of " << options.max_seconds
+        << " s is used up, no Levenberg-Marquardt fallback";
+    newton.message = msg.str();
     return newton;
   }
   *x = start;
