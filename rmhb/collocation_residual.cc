@@ -21,6 +21,9 @@ void HarmonicBalanceProblem::Validate() const {
                                   std::to_string(w));
   if (!unknown_frequency.empty() && unknown_frequency.size() != frequencies.size())
     throw std::invalid_argument("unknown_frequency must have one flag per base frequency");
+  for (const auto& symmetry : symmetries)
+    for (int i = 0; i < system.num_equations(); ++i)
+      symmetry.EquationSign(system, i, static_cast<int>(frequencies.size()));
 }
 
 CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
@@ -79,6 +82,10 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
   }
   num_residuals_ = row + static_cast<int>(problem.conditions.size());
 
+  full_unknowns_ = num_unknowns_;
+  full_residuals_ = num_residuals_;
+  SetUpSymmetries();
+
   slot_samples_.assign(slots_.size(), Eigen::VectorXd(M_));
   work_.resize(M_);
   term_.resize(M_);
@@ -86,6 +93,40 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
   coef_.resize(C_);
   block_.resize(C_, C_);
   rates_.resize(basis.size());
+}
+
+void CollocationResidual::SetUpSymmetries() {
+  if (problem_.symmetries.empty()) return;
+  const int d = basis_.num_bases();
+  // Coefficient c of a variable belongs to harmonic (c + 1) / 2.
+  auto allowed = [&](int coefficient, int sign, const HalfTurnSymmetry& s) {
+    return s.Allows(basis_.harmonic((coefficient + 1) / 2), sign);
+  };
+  for (int j = 0; j < n_; ++j)
+    for (int c = 0; c < C_; ++c) {
+      bool keep = true;
+      for (const auto& s : problem_.symmetries) keep = keep && allowed(c, s.sign[j], s);
+      if (keep) kept_unknowns_.push_back(j * C_ + c);
+    }
+  for (int u = n_ * C_; u < full_unknowns_; ++u) kept_unknowns_.push_back(u);
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    const int skip = eq.balance_constant ? 0 : 1;
+    std::vector<int> signs;
+    for (const auto& s : problem_.symmetries)
+      signs.push_back(s.EquationSign(problem_.system, static_cast<int>(i), d));
+    for (int c = skip; c < C_; ++c) {
+      bool keep = true;
+      for (size_t k = 0; k < signs.size(); ++k)
+        keep = keep && allowed(c, signs[k], problem_.symmetries[k]);
+      if (keep) kept_residuals_.push_back(eq.first_row + c - skip);
+    }
+  }
+  for (int r = full_residuals_ - static_cast<int>(problem_.conditions.size()); r < full_residuals_; ++r)
+    kept_residuals_.push_back(r);
+  num_unknowns_ = static_cast<int>(kept_unknowns_.size());
+  num_residuals_ = static_cast<int>(kept_residuals_.size());
+  full_x_.setZero(full_unknowns_);
 }
 
 void CollocationResidual::Frequencies(const Eigen::VectorXd& x, std::vector<double>* w) const {
@@ -96,18 +137,25 @@ void CollocationResidual::Frequencies(const Eigen::VectorXd& x, std::vector<doub
 
 Eigen::VectorXd CollocationResidual::Pack(const Eigen::MatrixXd& coefficients,
                                           const std::vector<double>& frequencies) const {
-  Eigen::VectorXd x(num_unknowns_);
+  Eigen::VectorXd x(full_unknowns_);
   for (int j = 0; j < n_; ++j) x.segment(j * C_, C_) = coefficients.row(j).transpose();
   for (int b = 0; b < basis_.num_bases(); ++b)
     if (unknown_index_[b] >= 0) x(n_ * C_ + unknown_index_[b]) = frequencies[b];
-  return x;
+  if (kept_unknowns_.empty()) return x;
+  Eigen::VectorXd reduced(num_unknowns_);
+  for (int i = 0; i < num_unknowns_; ++i) reduced(i) = x(kept_unknowns_[i]);
+  return reduced;
 }
 
 void CollocationResidual::Unpack(const Eigen::VectorXd& x, Eigen::MatrixXd* coefficients,
                                  std::vector<double>* frequencies) const {
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(full_unknowns_);
+  if (kept_unknowns_.empty()) full = x;
+  else
+    for (int i = 0; i < num_unknowns_; ++i) full(kept_unknowns_[i]) = x(i);
   coefficients->resize(n_, C_);
-  for (int j = 0; j < n_; ++j) coefficients->row(j) = x.segment(j * C_, C_).transpose();
-  Frequencies(x, frequencies);
+  for (int j = 0; j < n_; ++j) coefficients->row(j) = full.segment(j * C_, C_).transpose();
+  Frequencies(full, frequencies);
 }
 
 void CollocationResidual::EvaluateSamples(const CompiledEquation& eq, int slot, double* out) const {
@@ -136,6 +184,22 @@ void CollocationResidual::EvaluateSamples(const CompiledEquation& eq, int slot, 
 
 bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                    Eigen::MatrixXd* jacobian) {
+  if (kept_unknowns_.empty()) return EvaluateFull(x, residual, jacobian);
+  for (int i = 0; i < num_unknowns_; ++i) full_x_(kept_unknowns_[i]) = x(i);
+  const bool ok = EvaluateFull(full_x_, &full_residual_, jacobian ? &full_jacobian_ : nullptr);
+  residual->resize(num_residuals_);
+  for (int r = 0; r < num_residuals_; ++r) (*residual)(r) = full_residual_(kept_residuals_[r]);
+  if (jacobian) {
+    jacobian->resize(num_residuals_, num_unknowns_);
+    for (int c = 0; c < num_unknowns_; ++c)
+      for (int r = 0; r < num_residuals_; ++r)
+        (*jacobian)(r, c) = full_jacobian_(kept_residuals_[r], kept_unknowns_[c]);
+  }
+  return ok;
+}
+
+bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
+                                       Eigen::MatrixXd* jacobian) {
   std::vector<double> w;
   Frequencies(x, &w);
   for (int k = 0; k < basis_.size(); ++k) rates_[k] = basis_.Frequency(k, w);
@@ -155,8 +219,8 @@ bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* re
     }
   }
 
-  residual->resize(num_residuals_);
-  if (jacobian) jacobian->setZero(num_residuals_, num_unknowns_);
+  residual->resize(full_residuals_);
+  if (jacobian) jacobian->setZero(full_residuals_, full_unknowns_);
   for (size_t i = 0; i < equations_.size(); ++i) {
     const CompiledEquation& eq = equations_[i];
     const int skip = eq.balance_constant ? 0 : 1;
@@ -205,7 +269,7 @@ bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* re
         dz(j) += rates_[k] * X[2 * k];
       }
     }
-    int row = num_residuals_ - static_cast<int>(problem_.conditions.size());
+    int row = full_residuals_ - static_cast<int>(problem_.conditions.size());
     for (const auto& cond : problem_.conditions) {
       gz.setZero();
       gdz.setZero();

@@ -8,6 +8,10 @@
 // unknown base frequencies. The analytic Jacobian uses the Toeplitz-plus-
 // Hankel structure of E* diag(dg/dz) E, so its cost is O(K^2) per nonzero
 // partial derivative instead of a dense M x K product.
+//
+// Half-turn symmetries (rmhb/symmetry.h) shrink the problem the solver sees:
+// the residual is still evaluated on the full basis, but the unknowns and
+// residual rows a symmetry forces to zero are left out of x, F and J.
 
 #include <memory>
 #include <vector>
@@ -20,6 +24,7 @@
 #include "rmhb/polynomial_system.h"
 #include "rmhb/sampling.h"
 #include "rmhb/spectral_transform.h"
+#include "rmhb/symmetry.h"
 
 namespace rmhb {
 
@@ -29,6 +34,8 @@ struct HarmonicBalanceProblem {
   std::vector<double> frequencies;
   std::vector<bool> unknown_frequency;  // empty: all known
   std::vector<PointCondition> conditions;
+  // Symmetries the solution is asserted to have (see rmhb/symmetry.h).
+  std::vector<HalfTurnSymmetry> symmetries = {};
 
   int num_unknown_frequencies() const;
   // Throws std::invalid_argument naming what is wrong.
@@ -45,10 +52,15 @@ class CollocationResidual : public NonlinearProblem {
   bool Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                 Eigen::MatrixXd* jacobian) override;
 
+  // Between the solver's vector and [variable][coefficient] + frequencies;
+  // Pack drops what the symmetries exclude, Unpack fills it with zeros.
   Eigen::VectorXd Pack(const Eigen::MatrixXd& coefficients,
                        const std::vector<double>& frequencies) const;
   void Unpack(const Eigen::VectorXd& x, Eigen::MatrixXd* coefficients,
               std::vector<double>* frequencies) const;
+  // Unknowns and residuals before the symmetry reduction.
+  int num_full_unknowns() const { return full_unknowns_; }
+  int num_full_residuals() const { return full_residuals_; }
 
  private:
   struct CompiledTerm {
@@ -68,6 +80,10 @@ class CollocationResidual : public NonlinearProblem {
   };
 
   void Frequencies(const Eigen::VectorXd& x, std::vector<double>* w) const;
+  // The residual and Jacobian on the full, unreduced unknowns.
+  bool EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
+                    Eigen::MatrixXd* jacobian);
+  void SetUpSymmetries();
   // p = sum over terms of d(term)/d(slot), or the whole equation if slot < 0.
   void EvaluateSamples(const CompiledEquation& eq, int slot, double* out) const;
 
@@ -79,6 +95,12 @@ class CollocationResidual : public NonlinearProblem {
   long M_;
   int num_unknowns_;
   int num_residuals_;
+  int full_unknowns_;
+  int full_residuals_;
+  // Reduced index -> full index; empty when there is no symmetry.
+  std::vector<int> kept_unknowns_, kept_residuals_;
+  Eigen::VectorXd full_x_, full_residual_;
+  Eigen::MatrixXd full_jacobian_;
   std::vector<int> unknown_index_;  // base -> unknown slot or -1
   std::vector<SlotInfo> slots_;
   std::vector<CompiledEquation> equations_;

@@ -1,6 +1,7 @@
 #include "rmhb/harmonic_balance.h"
 
 #include <chrono>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -9,6 +10,7 @@ namespace rmhb {
 std::string HarmonicBalanceOptions::IsValid() const {
   if (order < 1) return "order must be >= 1 (got " + std::to_string(order) + ")";
   if (order > 20000) return "order " + std::to_string(order) + " is unreasonably large";
+  if (!(max_gcd_excess > 0)) return "max_gcd_excess must be > 0";
   for (int m : samples)
     if (m < 1) return "samples must be >= 1 (got " + std::to_string(m) + ")";
   return solver.IsValid();
@@ -16,6 +18,14 @@ std::string HarmonicBalanceOptions::IsValid() const {
 
 HarmonicBasis MakeBasis(int num_bases, const HarmonicBalanceOptions& options) {
   if (num_bases == 1) return HarmonicBasis::Periodic(options.order);
+  if (options.basis_for_order) {
+    HarmonicBasis basis = options.basis_for_order(options.order);
+    if (basis.num_bases() != num_bases)
+      throw std::invalid_argument("basis_for_order gave a basis over " +
+                                  std::to_string(basis.num_bases()) + " bases for a problem with " +
+                                  std::to_string(num_bases));
+    return basis;
+  }
   return options.shape == BasisShape::kBox ? HarmonicBasis::Box(num_bases, options.order)
                                            : HarmonicBasis::Diamond(num_bases, options.order);
 }
@@ -73,19 +83,45 @@ HarmonicBalanceSummary SolveAtOrder(const HarmonicBalanceProblem& problem,
     // is Theorem 1's on that 1-D spectrum (Theorem 2).
     const std::vector<int> r =
         RationalRatios(problem.frequencies, options.gcd_tolerance, options.max_samples);
+    std::string ratios;
+    for (int b = 0; b < d; ++b) ratios += (b ? ":" : "") + std::to_string(r[b]);
+    // Harmonics k with equal |r.k| are one frequency over the common period:
+    // the basis crosses a resonance of the ratio (5 w1 - 3 w2 = 0 for 3:5)
+    // and the GCD rule cannot tell their coefficients apart.
     long reach = 0, forcing = 0;
-    for (const auto& k : basis.harmonics()) {
+    std::map<long, int> seen;
+    for (int k = 0; k < basis.size(); ++k) {
       long v = 0;
-      for (int b = 0; b < d; ++b) v += long(r[b]) * k[b];
+      for (int b = 0; b < d; ++b) v += long(r[b]) * basis.harmonic(k)[b];
       reach = std::max(reach, std::labs(v));
+      auto [it, fresh] = seen.emplace(std::labs(v), k);
+      if (!fresh) {
+        auto name = [&](int i) {
+          std::string n = "(";
+          for (int b = 0; b < d; ++b) n += (b ? "," : "") + std::to_string(basis.harmonic(i)[b]);
+          return n + ")";
+        };
+        throw std::invalid_argument("GCD rule: harmonics " + name(it->second) + " and " + name(k) +
+                                    " have the same frequency for ratios " + ratios +
+                                    "; the basis reaches a resonance of the ratio, use the torus "
+                                    "grid or a lower order");
+      }
     }
     for (int b = 0; b < d; ++b) forcing += long(r[b]) * problem.system.ForcingReach(b);
     const long needed = (summary.degree + 1) * reach + forcing + 1;
+    long torus = 1;
+    for (int m : summary.samples) torus *= m;
     if (needed > options.max_samples)
       throw std::invalid_argument(
-          "GCD rule needs " + std::to_string(needed) + " samples (ratios " + std::to_string(r[0]) +
-          ":" + std::to_string(r[1]) + "), over the limit of " + std::to_string(options.max_samples) +
-          "; use the torus grid");
+          "GCD rule needs " + std::to_string(needed) + " samples (ratios " + ratios +
+          "), over the limit of " + std::to_string(options.max_samples) + "; use the torus grid");
+    if (double(needed) > options.max_gcd_excess * double(torus)) {
+      std::ostringstream msg;
+      msg << "GCD rule needs " << needed << " samples (ratios " << ratios << "), "
+          << needed / torus << " times the torus grid's " << torus << " (limit "
+          << options.max_gcd_excess << "x); use the torus grid";
+      throw std::invalid_argument(msg.str());
+    }
     const int m = options.samples.empty() ? FftFriendlySize(static_cast<int>(needed)) : summary.samples[0];
     summary.alias_free_samples = {static_cast<int>(needed)};
     summary.samples = {m};

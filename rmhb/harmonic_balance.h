@@ -8,6 +8,7 @@
 // status in the summary; misuse (bad options, malformed problem) throws
 // std::invalid_argument with a message saying what is wrong.
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,12 @@ enum class QuasiPeriodicSampling { kTorus, kGcd };
 struct HarmonicBalanceOptions {
   int order = 10;  // N for one base, p for several
   BasisShape shape = BasisShape::kDiamond;
+  // When set, the basis of order p for several bases, instead of `shape`: a
+  // problem-specific index set (HarmonicBasis::FromHarmonics) such as the
+  // fast/slow rectangle of a beating torus. Examples that need one provide
+  // it (examples::ExampleSetup::basis_for_order). Order continuation calls it
+  // at the lower orders too.
+  std::function<HarmonicBasis(int order)> basis_for_order;
   SamplingRule rule = SamplingRule::kRhb;
   // Explicit samples per base (overrides the rule). Below the alias-free
   // count this is refused unless allow_aliasing is set: aliasing creates
@@ -39,6 +46,13 @@ struct HarmonicBalanceOptions {
   bool allow_aliasing = false;
   QuasiPeriodicSampling quasi_periodic_sampling = QuasiPeriodicSampling::kTorus;
   double gcd_tolerance = 1e-12;   // relative, for the rational approximation of w_i/w_1
+  // The GCD rule is refused (std::invalid_argument naming both sample
+  // counts) when it needs more than this many times the samples of the torus
+  // grid for the same basis. Close base frequencies make the period
+  // 2 pi / gcd(w) huge: 0.9857 : 0.9935 = 9857 : 9935 needs ~2e5 samples at
+  // p = 5 where the torus grid needs 21 x 21, and a ratio known only to
+  // round-off (unknown frequencies) needs even more.
+  double max_gcd_excess = 16;
   long max_samples = 20'000'000;  // refuse larger grids up front (memory)
   // Solve at lower orders first (N/4, N/2, ...) and warm-start: a high-order
   // solve then needs one or two iterations of the large system.

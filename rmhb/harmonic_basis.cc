@@ -78,6 +78,51 @@ HarmonicBasis HarmonicBasis::Box(int num_bases, int order) {
   return b;
 }
 
+HarmonicBasis HarmonicBasis::WeightedDiamond(const std::vector<int>& weights, int order) {
+  const int d = static_cast<int>(weights.size());
+  CheckArguments(d, order);
+  for (int w : weights)
+    if (w < 1) throw std::invalid_argument("HarmonicBasis: diamond weights must be >= 1");
+  HarmonicBasis b(d, order, "weighted diamond");
+  b.harmonics_.push_back(std::vector<int>(d, 0));
+  for (auto& k : Enumerate(d, order, [&](const std::vector<int>& v) {
+         long s = 0;
+         for (int i = 0; i < d; ++i) s += long(weights[i]) * std::abs(v[i]);
+         return s <= order;
+       }))
+    b.harmonics_.push_back(k);
+  return b;
+}
+
+HarmonicBasis HarmonicBasis::FromHarmonics(int num_bases, std::vector<std::vector<int>> harmonics,
+                                          int order, std::string shape) {
+  CheckArguments(num_bases, std::max(order, 1));
+  HarmonicBasis b(num_bases, order, std::move(shape));
+  b.harmonics_.push_back(std::vector<int>(num_bases, 0));
+  std::vector<std::vector<int>> kept;
+  for (auto& k : harmonics) {
+    if (static_cast<int>(k.size()) != num_bases)
+      throw std::invalid_argument("HarmonicBasis: harmonic with " + std::to_string(k.size()) +
+                                  " entries for " + std::to_string(num_bases) + " bases");
+    if (!Canonical(k))
+      for (int& v : k) v = -v;
+    if (Canonical(k)) kept.push_back(std::move(k));  // zero is never canonical
+  }
+  // Same order as the standard shapes (total degree, then lexicographic), so
+  // that low harmonics come first whatever order the caller listed them in.
+  auto l1 = [](const std::vector<int>& v) {
+    int s = 0;
+    for (int x : v) s += std::abs(x);
+    return s;
+  };
+  std::sort(kept.begin(), kept.end(), [&](const auto& a, const auto& c) {
+    return l1(a) != l1(c) ? l1(a) < l1(c) : a < c;
+  });
+  kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+  for (auto& k : kept) b.harmonics_.push_back(std::move(k));
+  return b;
+}
+
 int HarmonicBasis::Reach(int base) const {
   int r = 0;
   for (const auto& k : harmonics_) r = std::max(r, std::abs(k[base]));

@@ -21,6 +21,20 @@ class HarmonicBasis {
   static HarmonicBasis Diamond(int num_bases, int order);
   // max |k_i| <= order.
   static HarmonicBasis Box(int num_bases, int order);
+  // sum_i weight_i |k_i| <= order: a diamond stretched along the bases whose
+  // harmonics decay slowly (weight 1) and squeezed along those whose decay
+  // fast (weight > 1), e.g. a weakly forced limit cycle: its own harmonics
+  // fall by ~5 per step, the forcing's combination tones by ~100.
+  static HarmonicBasis WeightedDiamond(const std::vector<int>& weights, int order);
+  // An explicit index set, for spectra that no standard shape covers
+  // economically: a fast oscillation modulated by a slow beat has harmonics
+  // m w1 + n w2 spread far along the slow direction (n, -n) and few along the
+  // fast one, so the diamond or box that reaches them is mostly empty. Either
+  // sign of each k may be given; duplicates and zero are dropped, and zero is
+  // always harmonic 0. `order` is the caller's label for the set (what order
+  // continuation and reports show); `shape` names it.
+  static HarmonicBasis FromHarmonics(int num_bases, std::vector<std::vector<int>> harmonics,
+                                     int order, std::string shape);
 
   int num_bases() const { return num_bases_; }
   int size() const { return static_cast<int>(harmonics_.size()); }  // K, with k = 0

@@ -115,6 +115,21 @@ HarmonicSolution HarmonicSolution::OnBasis(const HarmonicBasis& basis) const {
   return HarmonicSolution(basis, frequencies_, std::move(c), variables_);
 }
 
+HarmonicSolution HarmonicSolution::Shifted(const std::vector<double>& phase) const {
+  if (static_cast<int>(phase.size()) != basis_.num_bases())
+    throw std::invalid_argument("HarmonicSolution::Shifted: one phase per base expected");
+  // a cos(u + d) + b sin(u + d) = (a cos d + b sin d) cos u + (b cos d - a sin d) sin u.
+  Eigen::MatrixXd c = coefficients_;
+  for (int k = 1; k < basis_.size(); ++k) {
+    double d = 0;
+    for (int i = 0; i < basis_.num_bases(); ++i) d += basis_.harmonic(k)[i] * phase[i];
+    const double cd = std::cos(d), sd = std::sin(d);
+    c.col(2 * k - 1) = cd * coefficients_.col(2 * k - 1) + sd * coefficients_.col(2 * k);
+    c.col(2 * k) = cd * coefficients_.col(2 * k) - sd * coefficients_.col(2 * k - 1);
+  }
+  return HarmonicSolution(basis_, frequencies_, std::move(c), variables_);
+}
+
 HarmonicSolution HarmonicSolution::WithFrequencies(std::vector<double> frequencies) const {
   return HarmonicSolution(basis_, std::move(frequencies), coefficients_, variables_);
 }

@@ -43,6 +43,10 @@ class HarmonicSolution {
   // this one are zero, missing ones are dropped (warm starts across orders).
   HarmonicSolution OnBasis(const HarmonicBasis& basis) const;
   HarmonicSolution WithFrequencies(std::vector<double> frequencies) const;
+  // The same torus with its angles advanced: z(theta + phase). For an
+  // autonomous direction this is another solution (the phase is free), which
+  // is how a guess is turned to meet a phase condition before the solve.
+  HarmonicSolution Shifted(const std::vector<double>& phase) const;
 
  private:
   HarmonicBasis basis_;

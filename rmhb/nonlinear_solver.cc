@@ -85,6 +85,9 @@ std::string SolverOptions::IsValid() const {
   if (!(initial_lambda > 0) || !std::isfinite(initial_lambda)) return "initial_lambda must be > 0";
   if (!(lambda_factor > 1) || !std::isfinite(lambda_factor)) return "lambda_factor must be > 1";
   if (!(tikhonov_factor > 0) || !std::isfinite(tikhonov_factor)) return "tikhonov_factor must be > 0";
+  if (!(max_seconds >= 0) || !std::isfinite(max_seconds))
+    return "max_seconds must be finite and >= 0 (0: no limit)";
+  if (fallback_max_iterations < 1) return "fallback_max_iterations must be >= 1";
   return "";
 }
 
@@ -117,8 +120,17 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
   o.method = SolverMethod::kNewton;
   SolverSummary newton = SolveWith(problem, x, o);
   if (newton.converged() || newton.status == SolverStatus::kInvalidInput) return newton;
+  if (options.max_seconds > 0 && newton.seconds >= options.max_seconds) {
+    std::ostringstream msg;
+    msg << "Newton failed (" << newton.message << "); the time budget of " << options.max_seconds
+        << " s is used up, no Levenberg-Marquardt fallback";
+    newton.message = msg.str();
+    return newton;
+  }
   *x = start;
   o.method = SolverMethod::kLevenbergMarquardt;
+  o.max_iterations = std::min(options.max_iterations, options.fallback_max_iterations);
+  if (options.max_seconds > 0) o.max_seconds = options.max_seconds - newton.seconds;
   SolverSummary lm = SolveWith(problem, x, o);
   lm.iterations += newton.iterations;
   lm.evaluations += newton.evaluations;
@@ -168,10 +180,25 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   NewtonFactorization factorization;
   bool factored = false, chord = false;
 
+  auto out_of_time = [&] {
+    return options.max_seconds > 0 &&
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+               options.max_seconds;
+  };
+  auto time_up = [&] {
+    std::ostringstream msg;
+    msg << "time budget of " << options.max_seconds << " s used up after " << s.iterations
+        << " iterations (" << ToString(method) << "), max|F| = " << norm;
+    return finish(SolverStatus::kNoConvergence, msg.str());
+  };
   for (s.iterations = 1; s.iterations <= options.max_iterations; ++s.iterations) {
     if (norm <= options.residual_tolerance) {
       --s.iterations;
       break;
+    }
+    if (out_of_time()) {
+      --s.iterations;
+      return time_up();
     }
     Eigen::VectorXd dx;
     bool accepted = false;
@@ -256,6 +283,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         }
         lambda *= options.lambda_factor;
         if (lambda > 1e20) break;
+        if (out_of_time()) return time_up();
       }
       if (!accepted && MaxAbs(dx) <= options.step_tolerance * (1 + MaxAbs(*x)) * 1e3) {
         // Already at the floor: no step can reduce |F| in floating point.

@@ -57,6 +57,17 @@ struct SolverOptions {
   // least this factor (chord steps: O(n^2) instead of O(n^3) per iteration).
   // 0 disables reuse.
   double chord_contraction = 0.05;
+  // Wall-clock budget of the whole solve in seconds (kAuto: Newton and the
+  // fallback together); 0 for none. Running out is kNoConvergence with a
+  // message that says so. A bound on what a failing solve can cost: every
+  // regularised iteration is O(n^3), and a Levenberg-Marquardt fallback that
+  // crawls from a poor guess on a thousand unknowns takes minutes.
+  double max_seconds = 0;
+  // kAuto: iteration cap of the Levenberg-Marquardt fallback (at most
+  // max_iterations). It rescues guesses that are near a solution but outside
+  // Newton's region; one that needs more is better restarted from a better
+  // guess than crawled to.
+  int fallback_max_iterations = 50;
   bool estimate_condition = false;  // costs one SVD of the final Jacobian
   bool verbose = false;
   std::string IsValid() const;  // empty when valid, otherwise what is wrong
