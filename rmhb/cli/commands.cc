@@ -72,8 +72,11 @@ void AddSolveOptions(CLI::App* app, SolveArgs* a) {
   app->add_option("--sampling", a->sampling,
                   "Quasi-periodic sampling: torus (2-D grid, default) or gcd (Theorem 2)")
       ->check(CLI::IsMember({"torus", "gcd"}));
-  app->add_option("--basis", a->shape, "Quasi-periodic index set: diamond (|m|+|n| <= p) or box")
-      ->check(CLI::IsMember({"diamond", "box"}));
+  app->add_option("--basis", a->shape,
+                  "Quasi-periodic index set: diamond (|m|+|n| <= p) or box (default: the "
+                  "model's own when it has one, else diamond)")
+      ->check(CLI::IsMember({"diamond", "box"}))
+      ->each([a](const std::string&) { a->shape_given = true; });
   app->add_option("--eval", a->eval, "Evaluate the solution at t0:dt:t1 (with --csv)");
   app->add_option("--csv", a->csv, "CSV file for --eval: t and every variable");
   app->add_option("--samples,-M", a->samples,
@@ -226,6 +229,8 @@ int RunSolve(const SolveArgs& a) {
   options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;
   options.quasi_periodic_sampling =
       a.sampling == "gcd" ? QuasiPeriodicSampling::kGcd : QuasiPeriodicSampling::kTorus;
+  // An explicit --basis overrides the example's own index set.
+  if (source.basis_for_order && a.shape_given == false) options.basis_for_order = source.basis_for_order;
   HarmonicSolution guess = source.guess(options.order);
   {
     std::vector<double> w = guess.frequencies();

@@ -26,6 +26,7 @@ struct SolveArgs {
   std::string frequencies;  // "w1,w2"; "?w" marks an unknown with guess w
   std::string sampling = "torus";
   std::string shape = "diamond";
+  bool shape_given = false;
   std::string eval;         // "t0:dt:t1"
   std::string csv;          // file for --eval
 };

@@ -27,6 +27,7 @@ ProblemSource FromExample(const std::string& name, const std::map<std::string, d
   p.problem = setup->problem;
   p.default_order = setup->default_order;
   p.guess = [setup](int) { return setup->guess; };
+  p.basis_for_order = setup->basis_for_order;
   p.original = [setup](const std::vector<double>&) {
     return integrators::OdeSystem{setup->original.dimension(), setup->original.rhs};
   };

@@ -27,6 +27,9 @@ struct ProblemSource {
   HarmonicBalanceProblem problem;
   int default_order = 20;
   std::function<HarmonicSolution(int order)> guess;
+  // The example's own index set for an order, when the default diamond or
+  // box does not fit its spectrum (e.g. the asymmetric pendulum's beat).
+  std::function<HarmonicBasis(int order)> basis_for_order;
   // The original equations with the base frequencies bound to `w` (forcing
   // terms need the solved values), and the state a solution predicts.
   std::function<integrators::OdeSystem(const std::vector<double>& w)> original;
