@@ -186,6 +186,26 @@ TEST(Cli, IdentifyFindsTheBasesOfAUserSignal) {
   EXPECT_NE(bad.out.find(":3:"), std::string::npos) << bad.out;
 }
 
+TEST(Cli, QuasiPeriodicSolveReportsHarmonicPairs) {
+  const auto j = Json("solve forced-vanderpol --json");
+  ASSERT_EQ(j["status"], "converged") << j.dump(1);
+  ASSERT_EQ(j["frequencies"].size(), 2u);
+  EXPECT_EQ(j["frequencies"][0], 2.3);  // the forcing, known
+  EXPECT_NEAR(j["frequencies"][1].get<double>(), 0.997466254703, 1e-9);
+  const auto& h = j["harmonics"];
+  ASSERT_GT(h.size(), 10u);
+  EXPECT_EQ(h[0], nlohmann::json::array({0, 0}));
+  for (const auto& k : h) EXPECT_EQ(k.size(), 2u);
+  EXPECT_EQ(j["coefficients"]["x"]["cos"].size(), h.size());
+  EXPECT_EQ(j["coefficients"]["x"]["sin"].size(), h.size());
+  // The GCD rule is refused, with the sample count it would need.
+  const CliRun gcd = Cli("solve asym-pendulum --sampling gcd");
+  EXPECT_EQ(gcd.code, 2);
+  EXPECT_NE(gcd.out.find("samples"), std::string::npos) << gcd.out;
+  EXPECT_EQ(Cli("solve forced-vanderpol --frequencies 2.3").code, 2);  // one of two
+  EXPECT_EQ(Cli("solve forced-vanderpol --frequencies 2.3,-1").code, 2);
+}
+
 TEST(Cli, HelpAndListWork) {
   CliRun r = Cli("--help");
   EXPECT_EQ(r.code, 0);
