@@ -58,6 +58,15 @@ std::pair<std::string, double> ParseAssignment(const std::string& text) {
   return {name, v};
 }
 
+std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments) {
+  std::map<std::string, double> values;
+  for (const auto& s : assignments) {
+    auto [name, v] = ParseAssignment(s);
+    values[name] = v;
+  }
+  return values;
+}
+
 void AddSolveOptions(CLI::App* app, SolveArgs* a) {
   app->add_option("model", a->model,
                   "Example name (see `rmhb list`) or model file (examples/models/*.yaml)")
@@ -149,11 +158,7 @@ void AddRecastOptions(CLI::App* app, RecastArgs* a) {
 }
 
 int RunRecast(const RecastArgs& a) {
-  std::map<std::string, double> values;
-  for (const auto& s : a.set) {
-    auto [name, v] = ParseAssignment(s);
-    values[name] = v;
-  }
+  const std::map<std::string, double> values = ParseOverrides(a.set);
   const ProblemSource source = LoadProblem(a.model, values);
   const PolynomialSystem& sys = source.problem.system;
   if (a.json) {
@@ -187,11 +192,7 @@ int RunRecast(const RecastArgs& a) {
 }
 
 int RunSolve(const SolveArgs& a) {
-  std::map<std::string, double> values;
-  for (const auto& s : a.set) {
-    auto [name, v] = ParseAssignment(s);
-    values[name] = v;
-  }
+  const std::map<std::string, double> values = ParseOverrides(a.set);
   if (a.order != -1 && a.order < 1)
     throw std::invalid_argument("--order must be >= 1 (got " + std::to_string(a.order) + ")");
   if (a.samples != -1 && a.samples < 1)

@@ -1,7 +1,9 @@
 #ifndef RMHB_CLI_COMMANDS_H_
 #define RMHB_CLI_COMMANDS_H_
 
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace CLI {
@@ -46,6 +48,8 @@ int RunRecast(const RecastArgs& args);
 // "name=value" -> (name, value); throws std::invalid_argument saying which
 // argument is malformed or not a finite number.
 std::pair<std::string, double> ParseAssignment(const std::string& text);
+// Every --set of a command, as parameter overrides.
+std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments);
 
 }  // namespace rmhb::cli
 

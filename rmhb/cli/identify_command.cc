@@ -25,9 +25,7 @@ json Number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 // The model's own trajectory, sampled uniformly after the transient.
 frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known, double* seconds) {
-  std::map<std::string, double> values;
-  for (const auto& s : a.set) values.insert(ParseAssignment(s));
-  const ProblemSource source = LoadProblem(a.model, values);
+  const ProblemSource source = LoadProblem(a.model, ParseOverrides(a.set));
   if (!source.original) throw std::invalid_argument("cannot integrate the model: " + source.original_error);
   const std::vector<double>& w = source.problem.frequencies;
   for (size_t b = 0; b < w.size(); ++b)

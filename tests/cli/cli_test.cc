@@ -17,8 +17,8 @@ struct CliRun {
   std::string out;  // stdout and stderr together
 };
 
-CliRun Cli(const std::string& args) {
-  const std::string cmd = std::string(RMHB_CLI) + " " + args + " 2>&1";
+// Runs a shell command, returns its exit code and standard output.
+CliRun Capture(const std::string& cmd) {
   FILE* pipe = popen(cmd.c_str(), "r");
   std::string out;
   std::array<char, 4096> buf;
@@ -27,14 +27,12 @@ CliRun Cli(const std::string& args) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
+// stdout and stderr together, as a user sees them.
+CliRun Cli(const std::string& args) { return Capture(std::string(RMHB_CLI) + " " + args + " 2>&1"); }
+
+// stdout only: it must be a JSON document.
 nlohmann::json Json(const std::string& args) {
-  const std::string cmd = std::string(RMHB_CLI) + " " + args;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  pclose(pipe);
-  return nlohmann::json::parse(out);
+  return nlohmann::json::parse(Capture(std::string(RMHB_CLI) + " " + args).out);
 }
 
 TEST(Cli, SolveJsonHasTheDocumentedFields) {
