@@ -102,16 +102,8 @@ class IdaRun {
       return;
     }
     void* mem = mem_.get();
-    matrix_.reset(SUNDenseMatrix(n, n, context_.get()));
-    if (!matrix_) {
-      failure_ = "SUNDenseMatrix failed";
-      return;
-    }
-    linear_solver_.reset(SUNLinSol_Dense(y_.get(), matrix_.get(), context_.get()));
-    if (!linear_solver_) {
-      failure_ = "SUNLinSol_Dense failed";
-      return;
-    }
+    failure_ = detail::MakeDenseLinearSolver(n, y_.get(), context_.get(), &matrix_, &linear_solver_);
+    if (!failure_.empty()) return;
     if (!Check(IDASetErrHandlerFn(mem, detail::CaptureSundialsError, &diagnostics_),
                "IDASetErrHandlerFn") ||
         !Check(IDAInit(mem, ResidualTrampoline, t0, y_.get(), yp_.get()), "IDAInit") ||

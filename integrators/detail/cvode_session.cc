@@ -140,16 +140,8 @@ CvodeSession::CvodeSession(const OdeSystem& system, const Eigen::VectorXd& y0, d
     }
   } else {
     // Dense Newton with CVODE's internal difference-quotient Jacobian.
-    matrix_.reset(SUNDenseMatrix(n, n, context_.get()));
-    if (!matrix_) {
-      failure_ = "SUNDenseMatrix failed";
-      return;
-    }
-    linear_solver_.reset(SUNLinSol_Dense(y_.get(), matrix_.get(), context_.get()));
-    if (!linear_solver_) {
-      failure_ = "SUNLinSol_Dense failed";
-      return;
-    }
+    failure_ = MakeDenseLinearSolver(n, y_.get(), context_.get(), &matrix_, &linear_solver_);
+    if (!failure_.empty()) return;
     if (!Check(CVodeSetLinearSolver(mem, linear_solver_.get(), matrix_.get()),
                "CVodeSetLinearSolver")) {
       return;

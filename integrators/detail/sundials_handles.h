@@ -11,7 +11,11 @@
 #include <sundials/sundials_matrix.h>
 #include <sundials/sundials_nonlinearsolver.h>
 
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
 #include <memory>
+#include <string>
 #include <type_traits>
 
 namespace rmhb::integrators::detail {
@@ -46,6 +50,17 @@ inline ContextHandle MakeContext() {
   // SUNDIALS 6.x takes a communicator as void*; null means "no MPI".
   if (SUNContext_Create(nullptr, &context) != 0) return ContextHandle();
   return ContextHandle(context);
+}
+
+// A dense n x n matrix and its direct linear solver, as CVODE's Newton and
+// IDA both use. Returns what failed, or an empty string.
+inline std::string MakeDenseLinearSolver(sunindextype n, N_Vector y, SUNContext context,
+                                         MatrixHandle* matrix, LinearSolverHandle* solver) {
+  matrix->reset(SUNDenseMatrix(n, n, context));
+  if (!*matrix) return "SUNDenseMatrix failed";
+  solver->reset(SUNLinSol_Dense(y, matrix->get(), context));
+  if (!*solver) return "SUNLinSol_Dense failed";
+  return "";
 }
 
 }  // namespace rmhb::integrators::detail

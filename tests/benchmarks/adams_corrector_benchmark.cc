@@ -15,25 +15,16 @@
 
 #include "integrators/cvode_integrator.h"
 #include "integrators/detail/cvode_session.h"
+#include "tests/integrators/test_systems.h"
 
 namespace {
 
 using rmhb::integrators::IntegratorOptions;
 using rmhb::integrators::OdeSystem;
+using rmhb::integrators::testing::Pendulum;
+constexpr double kPeriod = rmhb::integrators::testing::kPendulumPeriod;
 using rmhb::integrators::detail::AdamsCorrector;
 using rmhb::integrators::detail::CvodeSession;
-
-constexpr double kPeriod = 7.30086494213225287471815272861;
-
-OdeSystem Pendulum() {
-  OdeSystem system;
-  system.dimension = 2;
-  system.rhs = [](double, const double* y, double* ydot) {
-    ydot[0] = y[1];
-    ydot[1] = -std::sin(y[0]);
-  };
-  return system;
-}
 
 void Run(const char* label, AdamsCorrector corrector, double rtol, double atol) {
   const OdeSystem system = Pendulum();
