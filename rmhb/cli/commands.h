@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "rmhb/cli/solve_setup.h"
+
 namespace CLI {
 class App;
 }
@@ -13,22 +15,11 @@ class App;
 namespace rmhb::cli {
 
 struct SolveArgs {
-  std::string model;
-  std::vector<std::string> set;  // name=value
-  int order = -1;                // -1: the example's default
-  int samples = -1;              // -1: by the method's rule
-  std::string method = "rhb";
-  std::string solver = "auto";
-  int max_iterations = 100;
-  bool allow_aliasing = false;
+  SolveSettings settings;
   bool validate = false;
   int validate_periods = 1;
   bool json = false;
   bool quiet = false;
-  std::string frequencies;  // "w1,w2"; "?w" marks an unknown with guess w
-  std::string sampling = "torus";
-  std::string shape = "diamond";
-  bool shape_given = false;
   std::string eval;         // "t0:dt:t1"
   std::string csv;          // file for --eval
 };

@@ -15,13 +15,12 @@
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/problem_source.h"
+#include "rmhb/cli/solve_setup.h"
 
 namespace rmhb::cli {
 namespace {
 
 using nlohmann::json;
-
-json Number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 // The model's own trajectory, sampled uniformly after the transient.
 frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known, double* seconds) {

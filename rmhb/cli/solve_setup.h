@@ -1,0 +1,66 @@
+#ifndef RMHB_CLI_SOLVE_SETUP_H_
+#define RMHB_CLI_SOLVE_SETUP_H_
+
+// What every command that solves shares (solve, analyze, convergence,
+// continuation, montecarlo): the model and its parameters, the order, the
+// method, solver and sampling options; and the problem, options and guess
+// they make. One place, so that `--order 25 --method hdhb` means the same to
+// every command.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rmhb/cli/problem_source.h"
+#include "rmhb/harmonic_balance.h"
+
+namespace CLI {
+class App;
+}
+
+namespace rmhb::cli {
+
+struct SolveSettings {
+  std::string model;
+  std::vector<std::string> set;  // name=value
+  int order = -1;                // -1: the model's default
+  int samples = -1;              // -1: by the method's rule
+  std::string method = "rhb";
+  std::string solver = "auto";
+  int max_iterations = 100;
+  bool allow_aliasing = false;
+  std::string frequencies;  // "w1,w2"; "?w" marks an unknown with guess w
+  std::string sampling = "torus";
+  std::string shape = "diamond";
+  bool shape_given = false;
+};
+
+// The model positional argument and the options above.
+void AddSolveSettings(CLI::App* app, SolveSettings* settings);
+
+struct PreparedSolve {
+  ProblemSource source;
+  HarmonicBalanceOptions options;
+  HarmonicSolution guess;  // at options.order, with the problem's frequencies
+};
+
+// Loads the model, applies --set and --frequencies, and builds the options
+// and the starting guess. Throws std::invalid_argument naming the bad value.
+PreparedSolve PrepareSolve(const SolveSettings& settings);
+
+// "a,b,c" or "a:b:c" -> numbers; throws std::invalid_argument naming `what`
+// and the item that is not a finite number.
+std::vector<double> ParseNumberList(const std::string& text, const char* what);
+
+// JSON cannot hold NaN/inf; a non-finite number must never be printed as a
+// result, so it becomes null.
+nlohmann::json Number(double v);
+
+// The solution as the documented JSON fields: frequencies, harmonics,
+// coefficients (original variables) and auxiliary_coefficients.
+nlohmann::json SolutionJson(const HarmonicSolution& solution);
+
+}  // namespace rmhb::cli
+
+#endif  // RMHB_CLI_SOLVE_SETUP_H_
