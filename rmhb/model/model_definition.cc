@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "rmhb/model/internal/compile.h"
+#include "rmhb/model/internal/exact_numbers.h"
 #include "rmhb/model/internal/expression_parser.h"
 #include "rmhb/model/internal/symbolic_model.h"
 

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "rmhb/model/internal/compile.h"
-#include "rmhb/model/internal/expression_parser.h"
+#include "rmhb/model/internal/exact_numbers.h"
 #include "rmhb/model/internal/symbolic_model.h"
 #include "rmhb/model/internal/symbolic_tools.h"
 

@@ -180,9 +180,9 @@ TEST(ModelErrors, MalformedExpressions) {
   EXPECT_EQ(ParseError(Pendulum("sin(theta)", "theta $ 2")),
             "m.yaml:6:22: unexpected character '$' in equation 1");
   EXPECT_EQ(ParseError(Pendulum("sin(theta)", "1/0")),
-            "m.yaml:6:17: cannot evaluate: division by zero in equation 1");
+            "m.yaml:6:18: cannot evaluate: division by zero in equation 1");  // at the 0
   EXPECT_EQ(ParseError(Pendulum("sin(theta)", "theta^1000")),
-            "m.yaml:6:21: exponent 1000 too large (at most 64 in magnitude) in equation 1");
+            "m.yaml:6:22: exponent 1000 too large (at most 64 in magnitude) in equation 1");
   EXPECT_EQ(ParseError(Pendulum("sin(theta)", "1e999*theta")),
             "m.yaml:6:16: number '1e999' is out of range in equation 1");
   EXPECT_EQ(ParseError(Pendulum("sin(theta)", "theta0'")),

@@ -1,25 +1,61 @@
 #include "rmhb/model/internal/expression_parser.h"
-#include "rmhb/model/internal/compile.h"
 
-#include <charconv>
+#include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <cstdio>
+#include <map>
 #include <set>
+
+#include "rmhb/model/internal/compile.h"
+#include "rmhb/model/internal/exact_numbers.h"
 
 namespace rmhb::model::internal {
 namespace {
 
 using GiNaC::ex;
+using GiNaC::exvector;
 using GiNaC::numeric;
 
-const std::set<std::string>& BuiltinFunctions() {
-  static const std::set<std::string> names = {
-      "sin",  "cos",  "tan",  "exp",    "log",    "ln",     "log10",  "log2",
-      "sqrt", "cbrt", "asin", "acos",   "atan",   "arcsin", "arccos", "arctan",
-      "sinh", "cosh", "tanh", "pow"};
-  return names;
+constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+
+// ---- functions -------------------------------------------------------------------------------
+// The functions a model may call, as GiNaC parser prototypes. The recast
+// supports exactly the GiNaC functions these produce (see kRecastFunctions).
+struct FunctionEntry {
+  const char* name;
+  std::size_t arity;
+  GiNaC::reader_func read;
+};
+
+const std::vector<FunctionEntry>& Functions() {
+  static const std::vector<FunctionEntry> table = {
+      {"sin", 1, [](const exvector& a) -> ex { return GiNaC::sin(a[0]); }},
+      {"cos", 1, [](const exvector& a) -> ex { return GiNaC::cos(a[0]); }},
+      {"tan", 1, [](const exvector& a) -> ex { return GiNaC::tan(a[0]); }},
+      {"exp", 1, [](const exvector& a) -> ex { return GiNaC::exp(a[0]); }},
+      {"log", 1, [](const exvector& a) -> ex { return GiNaC::log(a[0]); }},
+      {"log", 2, [](const exvector& a) -> ex { return GiNaC::log(a[0]) / GiNaC::log(a[1]); }},
+      {"ln", 1, [](const exvector& a) -> ex { return GiNaC::log(a[0]); }},
+      {"log10", 1, [](const exvector& a) -> ex { return GiNaC::log(a[0]) / GiNaC::log(ex(10)); }},
+      {"log2", 1, [](const exvector& a) -> ex { return GiNaC::log(a[0]) / GiNaC::log(ex(2)); }},
+      {"sqrt", 1, [](const exvector& a) -> ex { return GiNaC::pow(a[0], numeric(1, 2)); }},
+      {"cbrt", 1, [](const exvector& a) -> ex { return GiNaC::pow(a[0], numeric(1, 3)); }},
+      {"pow", 2, [](const exvector& a) -> ex { return GiNaC::pow(a[0], a[1]); }},
+      {"asin", 1, [](const exvector& a) -> ex { return GiNaC::asin(a[0]); }},
+      {"acos", 1, [](const exvector& a) -> ex { return GiNaC::acos(a[0]); }},
+      {"atan", 1, [](const exvector& a) -> ex { return GiNaC::atan(a[0]); }},
+      {"arcsin", 1, [](const exvector& a) -> ex { return GiNaC::asin(a[0]); }},
+      {"arccos", 1, [](const exvector& a) -> ex { return GiNaC::acos(a[0]); }},
+      {"arctan", 1, [](const exvector& a) -> ex { return GiNaC::atan(a[0]); }},
+      {"sinh", 1, [](const exvector& a) -> ex { return GiNaC::sinh(a[0]); }},
+      {"cosh", 1, [](const exvector& a) -> ex { return GiNaC::cosh(a[0]); }},
+      {"tanh", 1, [](const exvector& a) -> ex { return GiNaC::tanh(a[0]); }}};
+  return table;
 }
+
+// What the recast knows how to turn into polynomial equations.
+const std::set<std::string> kRecastFunctions = {"sin",  "cos",  "tan",  "exp",  "log", "asin",
+                                                "acos", "atan", "sinh", "cosh", "tanh"};
 
 const std::set<std::string>& NonSmoothFunctions() {
   static const std::set<std::string> names = {
@@ -29,399 +65,510 @@ const std::set<std::string>& NonSmoothFunctions() {
   return names;
 }
 
-enum class TokenKind { kNumber, kIdentifier, kOperator, kEnd };
+const GiNaC::prototype_table& Prototypes() {
+  static const GiNaC::prototype_table table = [] {
+    GiNaC::prototype_table t;
+    for (const FunctionEntry& f : Functions()) t[{f.name, f.arity}] = f.read;
+    return t;
+  }();
+  return table;
+}
+
+// Smallest and largest argument counts of a built-in function (0, 0 if none).
+std::pair<std::size_t, std::size_t> Arity(const std::string& name) {
+  std::size_t lo = 0, hi = 0;
+  for (const FunctionEntry& f : Functions())
+    if (name == f.name) {
+      lo = lo ? std::min(lo, f.arity) : f.arity;
+      hi = std::max(hi, f.arity);
+    }
+  return {lo, hi};
+}
+
+// ---- pre-tokenizer ---------------------------------------------------------------------------
+enum class TokenKind { kNumber, kName, kOperator, kEnd };
 
 struct Token {
   TokenKind kind = TokenKind::kEnd;
-  std::string text;  // operator text, identifier name or number literal
-  int primes = 0;    // identifiers only
+  std::string text;  // operator ("**" is "^"), name or number literal
+  int primes = 0;    // names only
   std::size_t offset = 0;
 };
 
-class Parser {
- public:
-  Parser(const std::string& text, const Resolver& resolver, const ParseLimits& limits)
-      : text_(text), resolver_(resolver), limits_(limits) {
-    if (text.size() > limits.max_length)
-      throw ParseError{0,
-                       "expression too long (" + std::to_string(text.size()) + " characters, at most " +
-                           std::to_string(limits.max_length) + ")",
-                       ""};
-    Next();
-  }
-
-  ex ParseTop(bool equation) {
-    if (current_.kind == TokenKind::kEnd) throw ParseError{current_.offset, "empty expression", ""};
-    ex lhs = Expression();
-    if (equation && IsOperator("=")) {
-      const std::size_t at = current_.offset;
-      Next();
-      if (current_.kind == TokenKind::kEnd)
-        throw ParseError{current_.offset, "missing right-hand side after '='", ""};
-      ex rhs = Expression();
-      if (IsOperator("="))
-        throw ParseError{current_.offset, "more than one '=' in an equation", ""};
-      lhs = Guard([&] { return lhs - rhs; }, at);
+std::vector<Token> Tokenize(const std::string& text, const ParseLimits& limits) {
+  if (text.size() > limits.max_length)
+    throw ParseError{0,
+                     "expression too long (" + std::to_string(text.size()) + " characters, at most " +
+                         std::to_string(limits.max_length) + ")",
+                     ""};
+  std::vector<Token> tokens;
+  auto digit = [&](std::size_t k) {
+    return k < text.size() && std::isdigit(static_cast<unsigned char>(text[k]));
+  };
+  std::size_t i = 0;
+  while (true) {
+    while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+    Token token;
+    token.offset = i;
+    if (i >= text.size()) {
+      tokens.push_back(token);
+      return tokens;
     }
-    if (current_.kind != TokenKind::kEnd) {
-      if (current_.kind == TokenKind::kOperator && current_.text == "=")
-        throw ParseError{current_.offset, "'=' is not allowed here", ""};
-      if (current_.kind == TokenKind::kOperator && current_.text == ")")
-        throw ParseError{current_.offset, "unbalanced ')'", ""};
-      throw ParseError{current_.offset,
-                       "expected an operator before '" + current_.text + "'" +
-                           (current_.kind == TokenKind::kOperator ? "" : " (write products with *)"),
-                       ""};
-    }
-    return lhs;
-  }
-
- private:
-  template <class F>
-  ex Guard(F f, std::size_t offset) {
-    ex r;
-    try {
-      r = f();
-    } catch (const ParseError&) {
-      throw;
-    } catch (const std::exception& e) {
-      std::string what = e.what();
-      if (what.find("division by zero") != std::string::npos) what = "division by zero";
-      throw ParseError{offset, "cannot evaluate: " + what, ""};
-    }
-    CheckRange(r, offset);
-    return r;
-  }
-
-  static void CheckRange(const ex& e, std::size_t offset) {
-    if (!GiNaC::is_a<numeric>(e)) return;
-    const numeric& n = GiNaC::ex_to<numeric>(e);
-    if (!n.is_real()) throw ParseError{offset, "complex value " + Str(e), ""};
-    if (n.is_zero()) return;
-    // Large exact numbers would make later exact arithmetic slow (and do not
-    // fit a double anyway); tiny ones are harmless.
-    static const numeric big = numeric(10).power(308);
-    if (GiNaC::abs(n) > big) throw ParseError{offset, "number out of range (beyond 1e308)", ""};
-  }
-
-  bool IsOperator(const char* op) const {
-    return current_.kind == TokenKind::kOperator && current_.text == op;
-  }
-
-  void Enter(std::size_t offset) {
-    if (++depth_ > limits_.max_depth)
-      throw ParseError{offset, "expression nested too deeply", ""};
-  }
-  void Leave() { --depth_; }
-
-  ex Expression() {
-    Enter(current_.offset);
-    ex result = Term();
-    while (IsOperator("+") || IsOperator("-")) {
-      const bool minus = current_.text == "-";
-      const std::size_t at = current_.offset;
-      Next();
-      ex rhs = Term();
-      result = Guard([&] { return minus ? result - rhs : result + rhs; }, at);
-    }
-    Leave();
-    return result;
-  }
-
-  ex Term() {
-    ex result = Unary();
-    while (IsOperator("*") || IsOperator("/")) {
-      const bool divide = current_.text == "/";
-      const std::size_t at = current_.offset;
-      Next();
-      ex rhs = Unary();
-      result = Guard([&] { return divide ? result / rhs : result * rhs; }, at);
-    }
-    return result;
-  }
-
-  ex Unary() {
-    if (IsOperator("-") || IsOperator("+")) {
-      const bool minus = current_.text == "-";
-      const std::size_t at = current_.offset;
-      Enter(at);
-      Next();
-      ex operand = Unary();
-      Leave();
-      return minus ? Guard([&] { return -operand; }, at) : operand;
-    }
-    return Power();
-  }
-
-  ex Power() {
-    ex base = Primary();
-    if (IsOperator("^") || IsOperator("**")) {
-      const std::size_t at = current_.offset;
-      Enter(at);
-      Next();
-      ex exponent = Unary();  // right associative, allows 2^-1
-      Leave();
-      return MakePower(base, exponent, at);
-    }
-    return base;
-  }
-
-  ex MakePower(const ex& base, const ex& exponent, std::size_t at) {
-    if (GiNaC::is_a<numeric>(exponent)) {
-      const numeric& n = GiNaC::ex_to<numeric>(exponent);
-      if (!n.is_real()) throw ParseError{at, "complex exponent", ""};
-      if (GiNaC::abs(n) > limits_.max_exponent)
-        throw ParseError{at,
-                         "exponent " + Str(exponent) + " too large (at most " +
-                             std::to_string(limits_.max_exponent) + " in magnitude)",
-                         ""};
-      if (base.is_zero() && n.is_negative()) throw ParseError{at, "division by zero", ""};
-    }
-    return Guard([&] { return GiNaC::pow(base, exponent); }, at);
-  }
-
-  std::vector<ex> Arguments(const std::string& name) {
-    // current_ is '('
-    const std::size_t open = current_.offset;
-    Enter(open);
-    Next();
-    std::vector<ex> args;
-    if (IsOperator(")")) throw ParseError{current_.offset, name + "() needs an argument", name};
-    while (true) {
-      args.push_back(Expression());
-      if (IsOperator(",")) {
-        Next();
-        continue;
-      }
-      if (IsOperator(")")) break;
-      if (current_.kind == TokenKind::kEnd || IsOperator("="))
-        throw ParseError{open, "missing ')' for the '(' here", ""};
-      throw ParseError{current_.offset, "expected ',' or ')' in the arguments of " + name, ""};
-    }
-    Next();
-    Leave();
-    return args;
-  }
-
-  ex Primary() {
-    const Token token = current_;
-    switch (token.kind) {
-      case TokenKind::kNumber: {
-        numeric value;
-        std::string why;
-        if (!DecimalToRational(token.text, &value, &why)) throw ParseError{token.offset, why, ""};
-        Next();
-        return value;
-      }
-      case TokenKind::kIdentifier: {
-        Next();
-        if (IsOperator("(")) {
-          if (token.primes == 0 && BuiltinFunctions().count(token.text))
-            return Function(token, Arguments(token.text));
-          if (token.primes == 0 && NonSmoothFunctions().count(token.text))
-            throw ParseError{token.offset,
-                             "function '" + token.text +
-                                 "' is not supported: it is not smooth, and the recast into a "
-                                 "polynomial system needs differentiable functions",
-                             token.text};
-          std::vector<ex> args = Arguments(token.text);
-          if (!resolver_.call) {
-            if (token.primes == 0 && !IsKnownName(token))
-              throw ParseError{token.offset, "unknown function '" + token.text + "'", token.text};
-            throw ParseError{token.offset,
-                             "'" + token.text + std::string(token.primes, '\'') +
-                                 "' is not a function (write products with *)",
-                             token.text};
-          }
-          return Guard([&] { return resolver_.call(token.text, token.primes, args, token.offset); },
-                       token.offset);
-        }
-        if (token.primes == 0 && BuiltinFunctions().count(token.text))
-          throw ParseError{token.offset, "function '" + token.text + "' needs an argument: " +
-                                             token.text + "(...)",
-                           token.text};
-        if (token.primes == 0 && NonSmoothFunctions().count(token.text))
-          throw ParseError{token.offset,
-                           "function '" + token.text + "' is not supported: it is not smooth",
-                           token.text};
-        if (token.primes > limits_.max_primes)
-          throw ParseError{token.offset, "too many primes (derivative order above " +
-                                             std::to_string(limits_.max_primes) + ")",
-                           token.text};
-        return Guard([&] { return resolver_.symbol(token.text, token.primes, token.offset); },
-                     token.offset);
-      }
-      case TokenKind::kOperator:
-        if (token.text == "(") {
-          Enter(token.offset);
-          Next();
-          if (IsOperator(")")) throw ParseError{current_.offset, "empty parentheses", ""};
-          ex inner = Expression();
-          if (!IsOperator(")")) {
-            if (current_.kind == TokenKind::kEnd)
-              throw ParseError{token.offset, "missing ')' for the '(' here", ""};
-            throw ParseError{current_.offset, "expected ')' before '" + current_.text + "'", ""};
-          }
-          Next();
-          Leave();
-          return inner;
-        }
-        throw ParseError{token.offset, "unexpected '" + token.text + "'", ""};
-      case TokenKind::kEnd:
-        throw ParseError{token.offset, "unexpected end of expression", ""};
-    }
-    throw ParseError{token.offset, "unexpected token", ""};
-  }
-
-  bool IsKnownName(const Token& token) {
-    // Whether the resolver knows the name (then "name(" is a missing '*').
-    try {
-      resolver_.symbol(token.text, token.primes, token.offset);
-      return true;
-    } catch (...) {
-      return false;
-    }
-  }
-
-  ex Function(const Token& f, const std::vector<ex>& args) {
-    const std::string& name = f.text;
-    const std::size_t at = f.offset;
-    auto arity = [&](std::size_t lo, std::size_t hi) {
-      if (args.size() < lo || args.size() > hi)
-        throw ParseError{at,
-                         name + "() takes " +
-                             (lo == hi ? std::to_string(lo)
-                                       : std::to_string(lo) + " or " + std::to_string(hi)) +
-                             " argument" + (hi > 1 ? "s" : "") + ", got " +
-                             std::to_string(args.size()),
-                         name};
-    };
-    if (name == "log") {
-      arity(1, 2);
-      if (args.size() == 2)
-        return Guard([&] { return GiNaC::log(args[0]) / GiNaC::log(args[1]); }, at);
-      return Guard([&] { return GiNaC::log(args[0]); }, at);
-    }
-    if (name == "pow") {
-      arity(2, 2);
-      return MakePower(args[0], args[1], at);
-    }
-    arity(1, 1);
-    const ex& x = args[0];
-    if (name == "sin") return Guard([&] { return GiNaC::sin(x); }, at);
-    if (name == "cos") return Guard([&] { return GiNaC::cos(x); }, at);
-    if (name == "tan") return Guard([&] { return GiNaC::tan(x); }, at);
-    if (name == "exp") return Guard([&] { return GiNaC::exp(x); }, at);
-    if (name == "ln") return Guard([&] { return GiNaC::log(x); }, at);
-    if (name == "log10") return Guard([&] { return GiNaC::log(x) / GiNaC::log(ex(10)); }, at);
-    if (name == "log2") return Guard([&] { return GiNaC::log(x) / GiNaC::log(ex(2)); }, at);
-    if (name == "sqrt") return MakePower(x, numeric(1, 2), at);
-    if (name == "cbrt") return MakePower(x, numeric(1, 3), at);
-    if (name == "asin" || name == "arcsin") return Guard([&] { return GiNaC::asin(x); }, at);
-    if (name == "acos" || name == "arccos") return Guard([&] { return GiNaC::acos(x); }, at);
-    if (name == "atan" || name == "arctan") return Guard([&] { return GiNaC::atan(x); }, at);
-    if (name == "sinh") return Guard([&] { return GiNaC::sinh(x); }, at);
-    if (name == "cosh") return Guard([&] { return GiNaC::cosh(x); }, at);
-    if (name == "tanh") return Guard([&] { return GiNaC::tanh(x); }, at);
-    throw ParseError{at, "unknown function '" + name + "'", name};
-  }
-
-  void Next() {
-    std::size_t i = position_;
-    while (i < text_.size() && std::isspace(static_cast<unsigned char>(text_[i]))) ++i;
-    current_ = Token{};
-    current_.offset = i;
-    if (i >= text_.size()) {
-      current_.kind = TokenKind::kEnd;
-      position_ = i;
-      return;
-    }
-    const char c = text_[i];
-    auto digit = [&](std::size_t k) {
-      return k < text_.size() && std::isdigit(static_cast<unsigned char>(text_[k]));
-    };
+    const char c = text[i];
     if (digit(i) || (c == '.' && digit(i + 1))) {
       std::size_t j = i;
       while (digit(j)) ++j;
-      if (j < text_.size() && text_[j] == '.') {
+      if (j < text.size() && text[j] == '.') {
         ++j;
         while (digit(j)) ++j;
       }
-      if (j < text_.size() && (text_[j] == 'e' || text_[j] == 'E')) {
+      if (j < text.size() && (text[j] == 'e' || text[j] == 'E')) {
         std::size_t k = j + 1;
-        if (k < text_.size() && (text_[k] == '+' || text_[k] == '-')) ++k;
+        if (k < text.size() && (text[k] == '+' || text[k] == '-')) ++k;
         if (digit(k)) {
           while (digit(k)) ++k;
           j = k;
         }
       }
-      current_.kind = TokenKind::kNumber;
-      current_.text = text_.substr(i, j - i);
-      position_ = j;
-      if (j < text_.size() &&
-          (std::isalpha(static_cast<unsigned char>(text_[j])) || text_[j] == '_'))
-        throw ParseError{j, "expected an operator after the number '" + current_.text +
+      token.kind = TokenKind::kNumber;
+      token.text = text.substr(i, j - i);
+      if (j < text.size() && (std::isalpha(static_cast<unsigned char>(text[j])) || text[j] == '_'))
+        throw ParseError{j, "expected an operator after the number '" + token.text +
                                 "' (write products with *)",
                          ""};
-      return;
-    }
-    if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+      i = j;
+    } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
       std::size_t j = i;
-      while (j < text_.size() &&
-             (std::isalnum(static_cast<unsigned char>(text_[j])) || text_[j] == '_'))
+      while (j < text.size() && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_'))
         ++j;
-      current_.kind = TokenKind::kIdentifier;
-      current_.text = text_.substr(i, j - i);
-      while (j < text_.size() && text_[j] == '\'') {
-        ++current_.primes;
+      token.kind = TokenKind::kName;
+      token.text = text.substr(i, j - i);
+      while (j < text.size() && text[j] == '\'') {
+        ++token.primes;
         ++j;
       }
-      position_ = j;
-      return;
+      i = j;
+    } else {
+      token.kind = TokenKind::kOperator;
+      if (c == '*' && i + 1 < text.size() && text[i + 1] == '*') {
+        token.text = "^";
+        i += 2;
+      } else {
+        if (c == '=' && i + 1 < text.size() && text[i + 1] == '=')
+          throw ParseError{i, "use a single '=' in equations", ""};
+        static const std::string single = "+-*/^(),=";
+        if (single.find(c) == std::string::npos) {
+          if (c == '\'') throw ParseError{i, "a prime must follow a variable name", ""};
+          char hex[8];
+          std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned char>(c));
+          const std::string shown =
+              std::isprint(static_cast<unsigned char>(c)) ? std::string(1, c) : hex;
+          throw ParseError{i, "unexpected character '" + shown + "'", ""};
+        }
+        token.text = std::string(1, c);
+        ++i;
+      }
     }
-    current_.kind = TokenKind::kOperator;
-    if (c == '*' && i + 1 < text_.size() && text_[i + 1] == '*') {
-      current_.text = "**";
-      position_ = i + 2;
-      return;
+    tokens.push_back(token);
+  }
+}
+
+// ---- check, rewrite for GiNaC, parse, substitute ---------------------------------------------
+class Translator {
+ public:
+  Translator(const std::vector<Token>& tokens, const Resolver& resolver, const ParseLimits& limits,
+             int depth)
+      : tokens_(tokens), resolver_(resolver), limits_(limits), depth_(depth) {
+    match_.assign(tokens.size(), kNone);
+    std::vector<std::size_t> open;
+    for (std::size_t i = 0; i < tokens.size(); ++i) {
+      if (IsOperator(i, "(")) open.push_back(i);
+      if (IsOperator(i, ")") && !open.empty()) {
+        match_[open.back()] = i;
+        match_[i] = open.back();
+        open.pop_back();
+      }
     }
-    if (c == '=' && i + 1 < text_.size() && text_[i + 1] == '=')
-      throw ParseError{i, "use a single '=' in equations", ""};
-    static const std::string single = "+-*/^(),=";
-    if (single.find(c) == std::string::npos) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned char>(c));
-      const std::string shown = std::isprint(static_cast<unsigned char>(c)) ? std::string(1, c) : hex;
-      if (c == '\'') throw ParseError{i, "a prime must follow a variable name", ""};
-      throw ParseError{i, "unexpected character '" + shown + "'", ""};
-    }
-    current_.text = std::string(1, c);
-    position_ = i + 1;
   }
 
-  const std::string& text_;
+  // Tokens [begin, end): an expression, or "lhs = rhs" giving lhs - rhs.
+  ex Parse(std::size_t begin, std::size_t end, bool equation) {
+    begin_ = begin;
+    end_ = end;
+    Check(equation);
+    return Substitute(RunGinac(Rewrite()));
+  }
+
+ private:
+  bool IsOperator(std::size_t i, const char* op) const {
+    return i < tokens_.size() && tokens_[i].kind == TokenKind::kOperator && tokens_[i].text == op;
+  }
+  bool IsBinary(std::size_t i) const {
+    return IsOperator(i, "+") || IsOperator(i, "-") || IsOperator(i, "*") || IsOperator(i, "/") ||
+           IsOperator(i, "^");
+  }
+  // name followed by '(' (a function, or x(0) in a condition).
+  bool IsCall(std::size_t i) const {
+    return tokens_[i].kind == TokenKind::kName && i + 1 < end_ && IsOperator(i + 1, "(");
+  }
+  bool IsBuiltinCall(std::size_t i) const {
+    return IsCall(i) && tokens_[i].primes == 0 && Arity(tokens_[i].text).first > 0;
+  }
+  [[noreturn]] void Fail(std::size_t i, const std::string& message,
+                         const std::string& symbol = "") const {
+    throw ParseError{tokens_[i].offset, message, symbol};
+  }
+  std::string Shown(std::size_t i) const {
+    return tokens_[i].text + std::string(static_cast<std::size_t>(tokens_[i].primes), '\'');
+  }
+
+  // Step 1: the token sequence, left to right, so the first error is the
+  // leftmost; names are resolved here, with their offsets.
+  void Check(bool equation) {
+    struct Frame {
+      std::size_t open;
+      std::size_t function;  // kNone for a parenthesised group
+      std::size_t commas;
+    };
+    std::vector<Frame> frames;
+    if (begin_ == end_) Fail(begin_, "empty expression");
+    bool want_operand = true;
+    for (std::size_t i = begin_; i < end_; ++i) {
+      const Token& token = tokens_[i];
+      if (want_operand) {
+        if (token.kind == TokenKind::kNumber) {
+          AddNumber(i);
+          want_operand = false;
+        } else if (token.kind == TokenKind::kName) {
+          if (IsBuiltinCall(i)) {
+            if (IsOperator(i + 2, ")")) Fail(i, token.text + "() needs an argument", token.text);
+            frames.push_back({i + 1, i, 0});
+            CheckDepth(frames.size(), i + 1);
+            ++i;
+          } else if (IsCall(i)) {
+            i = AddCall(i);
+            want_operand = false;
+          } else {
+            AddName(i);
+            want_operand = false;
+          }
+        } else if (IsOperator(i, "(")) {
+          if (IsOperator(i + 1, ")")) Fail(i + 1, "empty parentheses");
+          frames.push_back({i, kNone, 0});
+          CheckDepth(frames.size(), i);
+        } else if (!IsOperator(i, "+") && !IsOperator(i, "-")) {
+          Fail(i, "unexpected '" + token.text + "'");
+        }
+        continue;
+      }
+      if (token.kind != TokenKind::kOperator)
+        Fail(i, "expected an operator before '" + Shown(i) + "' (write products with *)");
+      if (IsBinary(i)) {
+        want_operand = true;
+      } else if (token.text == ")") {
+        if (frames.empty()) Fail(i, "unbalanced ')'");
+        const Frame frame = frames.back();
+        frames.pop_back();
+        if (frame.function != kNone) {
+          const std::string& name = tokens_[frame.function].text;
+          const auto [lo, hi] = Arity(name);
+          const std::size_t n = frame.commas + 1;
+          if (n < lo || n > hi)
+            Fail(frame.function,
+                 name + "() takes " +
+                     (lo == hi ? std::to_string(lo) : std::to_string(lo) + " or " + std::to_string(hi)) +
+                     " argument" + (hi > 1 ? "s" : "") + ", got " + std::to_string(n),
+                 name);
+        }
+      } else if (token.text == ",") {
+        if (frames.empty() || frames.back().function == kNone)
+          Fail(i, frames.empty() ? "unexpected ','" : "expected ')' before ','");
+        ++frames.back().commas;
+        want_operand = true;
+      } else if (token.text == "=") {
+        if (!frames.empty()) Fail(frames.back().open, "missing ')' for the '(' here");
+        if (!equation) Fail(i, "'=' is not allowed here");
+        if (split_ != kNone) Fail(i, "more than one '=' in an equation");
+        if (i + 1 == end_) Fail(end_, "missing right-hand side after '='");
+        split_ = i;
+        want_operand = true;
+      } else {
+        Fail(i, "expected an operator before '" + token.text + "'");
+      }
+    }
+    if (!frames.empty()) Fail(frames.back().open, "missing ')' for the '(' here");
+    if (want_operand) Fail(end_, "unexpected end of expression");
+  }
+
+  void CheckDepth(std::size_t frames, std::size_t i) const {
+    if (static_cast<int>(frames) + depth_ > limits_.max_depth)
+      Fail(i, "expression nested too deeply");
+  }
+
+  void AddNumber(std::size_t i) {
+    numeric value;
+    std::string why;
+    if (!DecimalToRational(tokens_[i].text, &value, &why)) Fail(i, why);
+    const GiNaC::symbol placeholder("n" + std::to_string(i));
+    numbers_.emplace(placeholder, Number{value, tokens_[i].offset});
+    table_["n" + std::to_string(i)] = placeholder;
+  }
+
+  void AddName(std::size_t i) {
+    const Token& token = tokens_[i];
+    if (token.primes == 0 && Arity(token.text).first > 0)
+      Fail(i, "function '" + token.text + "' needs an argument: " + token.text + "(...)", token.text);
+    if (token.primes == 0 && NonSmoothFunctions().count(token.text))
+      Fail(i, "function '" + token.text + "' is not supported: it is not smooth", token.text);
+    if (token.primes > limits_.max_primes)
+      Fail(i, "too many primes (derivative order above " + std::to_string(limits_.max_primes) + ")",
+           token.text);
+    table_["s" + std::to_string(i)] = resolver_.symbol(token.text, token.primes, token.offset);
+  }
+
+  // name(args) for a name that is not a built-in function: the caller's
+  // `call` (x'(0) in conditions) gets the arguments, parsed on their own.
+  // Returns the index of the closing parenthesis.
+  std::size_t AddCall(std::size_t i) {
+    const Token& token = tokens_[i];
+    if (token.primes == 0 && NonSmoothFunctions().count(token.text))
+      Fail(i,
+           "function '" + token.text +
+               "' is not supported: it is not smooth, and the recast into a polynomial system "
+               "needs differentiable functions",
+           token.text);
+    if (!resolver_.call) {
+      bool known = true;
+      try {
+        resolver_.symbol(token.text, token.primes, token.offset);
+      } catch (const ParseError&) {
+        known = false;
+      }
+      if (token.primes == 0 && !known) Fail(i, "unknown function '" + token.text + "'", token.text);
+      Fail(i, "'" + Shown(i) + "' is not a function (write products with *)", token.text);
+    }
+    const std::size_t close = match_[i + 1];
+    if (close == kNone || close >= end_) Fail(i + 1, "missing ')' for the '(' here");
+    CheckDepth(1, i + 1);
+    std::vector<ex> args;
+    std::size_t start = i + 2, level = 0;
+    for (std::size_t j = start; j <= close; ++j) {
+      if (j == close || (IsOperator(j, ",") && level == 0)) {
+        Translator inner(tokens_, resolver_, limits_, depth_ + 1);
+        args.push_back(inner.Parse(start, j, false));
+        start = j + 1;
+      }
+      if (IsOperator(j, "(")) ++level;
+      if (IsOperator(j, ")")) --level;
+    }
+    table_["s" + std::to_string(i)] = resolver_.call(token.text, token.primes, args, token.offset);
+    return close;
+  }
+
+  // One past the last token of the operand that starts at i: signs, then a
+  // primary (number, name, call, group), then '^' and another such operand.
+  std::size_t OperandEnd(std::size_t i) const {
+    while (true) {
+      while (IsOperator(i, "+") || IsOperator(i, "-")) ++i;
+      if (IsCall(i)) i = match_[i + 1] + 1;
+      else if (IsOperator(i, "(")) i = match_[i] + 1;
+      else ++i;
+      if (i < end_ && IsOperator(i, "^")) {
+        ++i;
+        continue;
+      }
+      return i;
+    }
+  }
+
+  // Step 2: GiNaC-safe text. GiNaC reads a sign after an operator as the
+  // start of a whole expression (2^-1+x would be 2^(-1+x)) and refuses
+  // a^b^c, so those operands get explicit parentheses.
+  std::string Rewrite() {
+    const std::size_t n = end_ - begin_ + 1;
+    std::vector<int> opens(n, 0), closes(n, 0);
+    for (std::size_t i = begin_; i < end_; ++i) {
+      if (IsCall(i) && !IsBuiltinCall(i)) {  // x'(0): one placeholder
+        i = match_[i + 1];
+        continue;
+      }
+      const bool power = IsOperator(i, "^");
+      const bool sign_after_operator =
+          (IsOperator(i, "+") || IsOperator(i, "-")) && i > begin_ && IsBinary(i - 1);
+      if (!power && !sign_after_operator) continue;
+      const std::size_t first = power ? i + 1 : i;
+      ++opens[first - begin_];
+      ++closes[OperandEnd(first) - begin_];
+    }
+    std::string out;
+    int depth = depth_;
+    auto emit = [&](const std::string& s, std::size_t i) {
+      out += s;
+      out += ' ';
+      origin_.insert(origin_.end(), s.size() + 1, tokens_[i].offset);
+    };
+    for (std::size_t i = begin_; i <= end_; ++i) {
+      for (int k = 0; k < closes[i - begin_]; ++k, --depth) emit(")", i);
+      if (i == end_) break;
+      for (int k = 0; k < opens[i - begin_]; ++k) {
+        if (++depth > limits_.max_depth) Fail(i, "expression nested too deeply");
+        emit("(", i);
+      }
+      const Token& token = tokens_[i];
+      if (token.kind == TokenKind::kNumber) {
+        emit("n" + std::to_string(i), i);
+      } else if (IsBuiltinCall(i)) {
+        emit(token.text, i);
+      } else if (token.kind == TokenKind::kName) {
+        emit("s" + std::to_string(i), i);
+        if (IsCall(i)) i = match_[i + 1];
+      } else if (i == split_) {
+        emit("-(", i);
+      } else {
+        if (token.text == "(" && ++depth > limits_.max_depth) Fail(i, "expression nested too deeply");
+        if (token.text == ")") --depth;
+        emit(token.text, i);
+      }
+    }
+    if (split_ != kNone) emit(")", end_);
+    return out;
+  }
+
+  // Step 3: GiNaC's parser, strict: every name is in the symbol table.
+  ex RunGinac(const std::string& text) const {
+    GiNaC::parser reader(table_, /*strict=*/true, Prototypes());
+    try {
+      return reader(text);
+    } catch (const GiNaC::parse_error& e) {
+      // Not expected after Check; GiNaC 1.8 reports column 0, so the
+      // emitted-text column is used only when it is given.
+      const std::size_t at = e.column > 0 && e.column <= origin_.size() ? origin_[e.column - 1]
+                                                                         : tokens_[begin_].offset;
+      std::string what = e.what();
+      what = what.substr(0, what.find('\n'));
+      throw ParseError{at, "cannot parse: " + what, ""};
+    } catch (const std::exception& e) {
+      throw ParseError{tokens_[begin_].offset, "cannot evaluate: " + Reason(e), ""};
+    }
+  }
+
+  static std::string Reason(const std::exception& e) {
+    const std::string what = e.what();
+    return what.find("division by zero") != std::string::npos ? "division by zero" : what;
+  }
+
+  // The numbers go in bottom-up, each node checked before GiNaC evaluates
+  // the next one up (10^10^10 never reaches GiNaC's exact arithmetic).
+  ex Substitute(const ex& e) const {
+    using GiNaC::is_a;
+    if (is_a<GiNaC::symbol>(e)) {
+      auto it = numbers_.find(e);
+      return it == numbers_.end() ? e : ex(it->second.value);
+    }
+    if (is_a<GiNaC::numeric>(e) || is_a<GiNaC::constant>(e)) return e;
+    ex result;
+    try {
+      if (is_a<GiNaC::power>(e)) {
+        const ex base = Substitute(e.op(0));
+        const ex exponent = Substitute(e.op(1));
+        CheckExponent(base, exponent, e);
+        result = GiNaC::pow(base, exponent);
+      } else if (is_a<GiNaC::add>(e) || is_a<GiNaC::mul>(e)) {
+        const bool add = is_a<GiNaC::add>(e);
+        result = add ? ex(0) : ex(1);
+        for (std::size_t k = 0; k < e.nops(); ++k)
+          result = add ? result + Substitute(e.op(k)) : result * Substitute(e.op(k));
+      } else if (is_a<GiNaC::function>(e)) {
+        const GiNaC::function& f = GiNaC::ex_to<GiNaC::function>(e);
+        if (!kRecastFunctions.count(f.get_name()))
+          throw ParseError{Where(e), "function '" + f.get_name() + "' is not supported", f.get_name()};
+        exvector args;
+        for (std::size_t k = 0; k < e.nops(); ++k) args.push_back(Substitute(e.op(k)));
+        result = GiNaC::function(f.get_serial(), args);
+      } else {
+        throw ParseError{Where(e), "unsupported expression " + Str(e), ""};
+      }
+    } catch (const ParseError&) {
+      throw;
+    } catch (const std::exception& err) {
+      throw ParseError{Where(e), "cannot evaluate: " + Reason(err), ""};
+    }
+    CheckRange(result, e);
+    return result;
+  }
+
+  void CheckExponent(const ex& base, const ex& exponent, const ex& node) const {
+    if (!GiNaC::is_a<numeric>(exponent)) return;
+    const numeric& n = GiNaC::ex_to<numeric>(exponent);
+    if (!n.is_real()) throw ParseError{Where(node), "complex exponent", ""};
+    if (GiNaC::abs(n) > limits_.max_exponent)
+      throw ParseError{Where(node.op(1)),
+                       "exponent " + Str(exponent) + " too large (at most " +
+                           std::to_string(limits_.max_exponent) + " in magnitude)",
+                       ""};
+    if (base.is_zero() && n.is_negative())
+      throw ParseError{Where(node.op(0)), "cannot evaluate: division by zero", ""};
+  }
+
+  void CheckRange(const ex& value, const ex& node) const {
+    if (!GiNaC::is_a<numeric>(value)) return;
+    const numeric& n = GiNaC::ex_to<numeric>(value);
+    if (!n.is_real()) throw ParseError{Where(node), "complex value " + Str(value), ""};
+    if (n.is_zero()) return;
+    // Large exact numbers would make later exact arithmetic slow (and do not
+    // fit a double anyway); tiny ones are harmless.
+    static const numeric big = numeric(10).power(308);
+    if (GiNaC::abs(n) > big) throw ParseError{Where(node), "number out of range (beyond 1e308)", ""};
+  }
+
+  // Offset of the leftmost number in a (not yet substituted) node; the start
+  // of the expression when it has none.
+  std::size_t Where(const ex& node) const {
+    std::size_t at = kNone;
+    for (GiNaC::const_preorder_iterator it = node.preorder_begin(); it != node.preorder_end(); ++it) {
+      auto number = numbers_.find(*it);
+      if (number != numbers_.end()) at = std::min(at, number->second.offset);
+    }
+    return at == kNone ? tokens_[begin_].offset : at;
+  }
+
+  struct Number {
+    numeric value;
+    std::size_t offset;
+  };
+
+  const std::vector<Token>& tokens_;
   const Resolver& resolver_;
   const ParseLimits& limits_;
-  std::size_t position_ = 0;
-  int depth_ = 0;
-  Token current_;
+  const int depth_;
+  std::vector<std::size_t> match_;  // index of the matching parenthesis
+  std::size_t begin_ = 0, end_ = 0;
+  std::size_t split_ = kNone;       // the '=' of an equation
+  GiNaC::symtab table_;             // placeholder name -> expression
+  std::map<ex, Number, GiNaC::ex_is_less> numbers_;  // placeholder symbol -> number
+  std::vector<std::size_t> origin_;  // emitted character -> offset in the text
 };
+
+ex Parse(const std::string& text, const Resolver& resolver, const ParseLimits& limits,
+         bool equation) {
+  const std::vector<Token> tokens = Tokenize(text, limits);
+  Translator translator(tokens, resolver, limits, 0);
+  return translator.Parse(0, tokens.size() - 1, equation);
+}
 
 }  // namespace
 
 GiNaC::ex ParseExpression(const std::string& text, const Resolver& resolver,
                           const ParseLimits& limits) {
-  Parser parser(text, resolver, limits);
-  return parser.ParseTop(false);
+  return Parse(text, resolver, limits, false);
 }
 
 GiNaC::ex ParseEquation(const std::string& text, const Resolver& resolver,
                         const ParseLimits& limits) {
-  Parser parser(text, resolver, limits);
-  return parser.ParseTop(true);
+  return Parse(text, resolver, limits, true);
 }
 
-bool IsBuiltinFunctionName(const std::string& name) { return BuiltinFunctions().count(name) > 0; }
+bool IsBuiltinFunctionName(const std::string& name) { return Arity(name).first > 0; }
 bool IsNonSmoothFunctionName(const std::string& name) {
   return NonSmoothFunctions().count(name) > 0;
 }
@@ -432,94 +579,6 @@ bool IsValidIdentifier(const std::string& name) {
   for (char c : name)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
   return true;
-}
-
-bool DecimalToRational(const std::string& text, GiNaC::numeric* value, std::string* why) {
-  std::size_t i = 0;
-  bool negative = false;
-  if (i < text.size() && (text[i] == '+' || text[i] == '-')) negative = text[i++] == '-';
-  std::string digits;
-  int fraction_digits = 0;
-  bool any = false, dot = false;
-  for (; i < text.size(); ++i) {
-    const char c = text[i];
-    if (std::isdigit(static_cast<unsigned char>(c))) {
-      any = true;
-      if (digits.empty() && c == '0') {
-        if (dot) ++fraction_digits;
-        continue;  // leading zeros
-      }
-      digits += c;
-      if (dot) ++fraction_digits;
-    } else if (c == '.' && !dot) {
-      dot = true;
-    } else {
-      break;
-    }
-  }
-  if (!any) {
-    *why = "'" + text + "' is not a number";
-    return false;
-  }
-  long exponent = 0;
-  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
-    ++i;
-    bool eneg = false;
-    if (i < text.size() && (text[i] == '+' || text[i] == '-')) eneg = text[i++] == '-';
-    if (i >= text.size()) {
-      *why = "'" + text + "' is not a number";
-      return false;
-    }
-    for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); ++i) {
-      exponent = exponent * 10 + (text[i] - '0');
-      if (exponent > 100000) break;
-    }
-    if (eneg) exponent = -exponent;
-  }
-  if (i != text.size()) {
-    *why = "'" + text + "' is not a number";
-    return false;
-  }
-  // Drop trailing zeros of the digit string into the exponent.
-  while (digits.size() > 1 && digits.back() == '0') {
-    digits.pop_back();
-    if (fraction_digits > 0) --fraction_digits;
-    else ++exponent;
-  }
-  if (digits.empty()) {
-    *value = 0;
-    return true;
-  }
-  if (digits.size() > 40) {
-    *why = "number '" + text + "' has too many digits (at most 40)";
-    return false;
-  }
-  const long scale = exponent - fraction_digits;
-  const long magnitude = scale + static_cast<long>(digits.size());  // ~ log10 |value| + 1
-  if (magnitude > 309 || magnitude < -330) {
-    *why = "number '" + text + "' is out of range";
-    return false;
-  }
-  numeric m(digits.c_str());
-  m = m * numeric(10).power(numeric(scale));
-  *value = negative ? -m : m;
-  return true;
-}
-
-GiNaC::numeric RationalFromDouble(double value) {
-  char buffer[64];
-  auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  std::string text(buffer, result.ptr);
-  numeric n;
-  std::string why;
-  if (!DecimalToRational(text, &n, &why)) {
-    // Tiny or huge values beyond the literal range: exact binary value.
-    int e = 0;
-    const double m = std::frexp(value, &e);
-    const long long mantissa = static_cast<long long>(std::ldexp(m, 53));
-    return numeric(static_cast<long>(mantissa)) * numeric(2).power(numeric(e - 53));
-  }
-  return n;
 }
 
 }  // namespace rmhb::model::internal

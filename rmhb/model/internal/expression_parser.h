@@ -1,15 +1,33 @@
 #ifndef RMHB_MODEL_INTERNAL_EXPRESSION_PARSER_H_
 #define RMHB_MODEL_INTERNAL_EXPRESSION_PARSER_H_
 
-// Natural-notation expressions -> GiNaC. A small recursive-descent parser
-// rather than GiNaC's own: it knows primes (x'' is one token, handed to the
-// caller's resolver as name "x" with 2 primes), reports errors with the
-// character offset so the caller can point at the file line/column, refuses
-// non-smooth functions with a reason, and bounds everything that could make
-// GiNaC hang on hostile input (nesting depth, exponent size, literal size).
+// Natural-notation expressions -> GiNaC, by GiNaC's own parser
+// (GiNaC::parser, strict mode, a symbol table and a prototype table of the
+// supported functions). Three steps:
+//
+// 1. A pre-tokenizer splits the text into numbers, names with their primes
+//    (x'' is one token, name "x" with 2 primes) and operators, and checks the
+//    token sequence (balanced parentheses, an operator between operands, the
+//    functions and their argument counts), so that every syntax error names
+//    the place: GiNaC 1.8's parse_error carries a line but its column is
+//    always 0, and some inputs crash or mislead it (`sin()` dereferences a
+//    missing argument, `2^-1+x` reads as 2^(-1+x), `a^b^c` is refused).
+//    Names are resolved by the caller's Resolver with their offset.
+// 2. The tokens are rewritten into GiNaC-safe text: every name and number
+//    becomes a placeholder symbol of the symbol table (so `x''`, `x'(0)`,
+//    `I` or `Pi` typed by the user cannot collide with GiNaC's literals),
+//    `**` becomes `^`, the operand of `^` and of a sign after an operator is
+//    parenthesised. Each emitted character keeps the offset it came from.
+// 3. GiNaC parses. Numbers are placeholders during the parse, so GiNaC cannot
+//    evaluate 10^10^10 or 1/0 there; a post-parse walk substitutes them
+//    bottom-up, refusing huge exponents, division by zero, complex or
+//    out-of-range values and functions outside the supported set, and
+//    reports at the offending number.
 //
 // Decimal literals become exact rationals (0.85 -> 17/20), so exponents like
-// 3/2 or 1.5 are recognised as radicals by the recast.
+// 3/2 or 1.5 are recognised as radicals by the recast. Hostile input is
+// bounded before GiNaC sees it (length, nesting depth after rewriting,
+// primes, exponent size, literal size).
 
 #include <cstddef>
 #include <functional>
@@ -56,13 +74,6 @@ GiNaC::ex ParseEquation(const std::string& text, const Resolver& resolver,
 bool IsBuiltinFunctionName(const std::string& name);
 bool IsNonSmoothFunctionName(const std::string& name);
 bool IsValidIdentifier(const std::string& name);
-
-// Exact rational of a decimal literal ("1.5e-3"); false (with a reason) when
-// it is not a plain number or is out of the double range.
-bool DecimalToRational(const std::string& text, GiNaC::numeric* value, std::string* why);
-// Exact rational of the shortest decimal that round-trips `value` (1.5 -> 3/2,
-// 0.1 -> 1/10). value must be finite.
-GiNaC::numeric RationalFromDouble(double value);
 
 }  // namespace rmhb::model::internal
 

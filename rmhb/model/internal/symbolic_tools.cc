@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "rmhb/model/internal/compile.h"
-#include "rmhb/model/internal/expression_parser.h"
+#include "rmhb/model/internal/exact_numbers.h"
 
 namespace rmhb::model::internal {
 
