@@ -134,10 +134,12 @@ TEST(ExampleModels, VanDerPolLimitCycle) {
 }
 
 // Forced models: the harmonic balance solution against a Runge-Kutta
-// integration of the original equations started from it.
+// integration of the original equations started from it. (forced-vanderpol
+// is quasi-periodic: model_vs_example_test.cc compares it with the C++
+// example, which quasi_periodic_test.cc checks against CVODE.)
 TEST(ExampleModels, ForcedModelsAgreeWithIntegration) {
   for (const auto& [name, order] : std::vector<std::pair<std::string, int>>{
-           {"duffing", 30}, {"forced-vanderpol", 40}, {"rayleigh-plesset", 30}}) {
+           {"duffing", 30}, {"rayleigh-plesset", 30}}) {
     SCOPED_TRACE(name);
     const Solved s = SolveExample(name, order);
     ASSERT_TRUE(s.summary.converged()) << s.summary.FullReport();
