@@ -27,7 +27,8 @@ void HarmonicBalanceProblem::Validate() const {
 }
 
 CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
-                                         const HarmonicBasis& basis, const Sampling& sampling)
+                                         const HarmonicBasis& basis, const Sampling& sampling,
+                                         bool condense_definitions)
     : problem_(problem), basis_(basis) {
   problem.Validate();
   if (basis.num_bases() != static_cast<int>(problem.frequencies.size()))
@@ -82,6 +83,11 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
   }
   num_residuals_ = row + static_cast<int>(problem.conditions.size());
 
+  layout_size_ = num_unknowns_;
+  frequency_column_ = n_ * C_;
+  definitions_.assign(n_, Definition{});
+  for (int j = 0; j < n_; ++j) column_.push_back(j * C_);
+  if (condense_definitions && problem.symmetries.empty()) SetUpCondensation();
   full_unknowns_ = num_unknowns_;
   full_residuals_ = num_residuals_;
   SetUpSymmetries();
@@ -129,6 +135,99 @@ void CollocationResidual::SetUpSymmetries() {
   full_x_.setZero(full_unknowns_);
 }
 
+void CollocationResidual::SetUpCondensation() {
+  std::vector<bool> is_source(n_, false);
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const Equation& eq = problem_.system.equations()[i];
+    if (!eq.balance_constant || eq.lhs.terms().size() != 2) continue;
+    int a = -1, b = -1;
+    double ca = 0, cb = 0;
+    bool linear = true;
+    for (const auto& [mono, c] : eq.lhs.terms()) {
+      if (mono.time.kind != TimeFunction::Kind::kOne || mono.factors.size() != 1 ||
+          mono.factors[0].second != 1) {
+        linear = false;
+        break;
+      }
+      const Slot& slot = mono.factors[0].first;
+      if (slot.derivative == 1) a = slot.variable, ca = c;
+      else b = slot.variable, cb = c;
+    }
+    if (!linear || a < 0 || b < 0 || a == b || cb == 0) continue;
+    // No chains: a source stays an unknown, a defined variable defines nothing.
+    if (definitions_[a].source >= 0 || definitions_[b].source >= 0 || is_source[b]) continue;
+    definitions_[b] = {a, -ca / cb};
+    is_source[a] = true;
+    equations_[i].first_row = -1;
+    ++num_condensed_;
+  }
+  if (num_condensed_ == 0) return;
+  int row = 0;
+  for (CompiledEquation& eq : equations_) {
+    if (eq.first_row < 0) continue;
+    eq.first_row = row;
+    row += eq.balance_constant ? C_ : C_ - 1;
+  }
+  num_residuals_ = row + static_cast<int>(problem_.conditions.size());
+  int column = 0;
+  for (int j = 0; j < n_; ++j) {
+    column_[j] = definitions_[j].source >= 0 ? -1 : column;
+    if (column_[j] >= 0) column += C_;
+  }
+  frequency_column_ = column;
+  num_unknowns_ = column + (layout_size_ - n_ * C_);
+  expanded_.resize(layout_size_);
+}
+
+void CollocationResidual::Expand(const Eigen::VectorXd& x, Eigen::VectorXd* full) const {
+  full->resize(layout_size_);
+  for (int j = 0; j < n_; ++j)
+    if (column_[j] >= 0) full->segment(j * C_, C_) = x.segment(column_[j], C_);
+  const int nu = layout_size_ - n_ * C_;
+  full->tail(nu) = x.tail(nu);
+  std::vector<double> w;
+  Frequencies(*full, &w);
+  for (int j = 0; j < n_; ++j) {
+    const Definition& d = definitions_[j];
+    if (d.source < 0) continue;
+    const double* A = full->data() + d.source * C_;
+    double* B = full->data() + j * C_;
+    B[0] = 0;
+    for (int k = 1; k < basis_.size(); ++k) {
+      const double rate = d.ratio * basis_.Frequency(k, w);
+      B[2 * k - 1] = rate * A[2 * k];
+      B[2 * k] = -rate * A[2 * k - 1];
+    }
+  }
+}
+
+void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
+                                           const Eigen::Ref<const Eigen::MatrixXd>& block, int j,
+                                           const Eigen::VectorXd& X) const {
+  const int rows = static_cast<int>(block.rows());
+  if (column_[j] >= 0) {
+    J->block(row, column_[j], rows, C_) += block;
+    return;
+  }
+  // dB/dA = ratio D(w): cos_k <- rate sin_k, sin_k <- -rate cos_k.
+  const Definition& d = definitions_[j];
+  const int a = column_[d.source];
+  const double* A = X.data() + d.source * C_;
+  for (int k = 1; k < basis_.size(); ++k) {
+    const double rate = d.ratio * rates_[k];
+    J->col(a + 2 * k).segment(row, rows) += rate * block.col(2 * k - 1);
+    J->col(a + 2 * k - 1).segment(row, rows) -= rate * block.col(2 * k);
+  }
+  for (int b = 0; b < basis_.num_bases(); ++b) {
+    if (unknown_index_[b] < 0) continue;
+    auto column = J->col(FrequencyColumn(b)).segment(row, rows);
+    for (int k = 1; k < basis_.size(); ++k) {
+      const double m = d.ratio * basis_.harmonic(k)[b];
+      if (m != 0) column += m * (A[2 * k] * block.col(2 * k - 1) - A[2 * k - 1] * block.col(2 * k));
+    }
+  }
+}
+
 void CollocationResidual::Frequencies(const Eigen::VectorXd& x, std::vector<double>* w) const {
   *w = problem_.frequencies;
   for (int b = 0; b < basis_.num_bases(); ++b)
@@ -137,10 +236,17 @@ void CollocationResidual::Frequencies(const Eigen::VectorXd& x, std::vector<doub
 
 Eigen::VectorXd CollocationResidual::Pack(const Eigen::MatrixXd& coefficients,
                                           const std::vector<double>& frequencies) const {
-  Eigen::VectorXd x(full_unknowns_);
+  Eigen::VectorXd x(layout_size_);
   for (int j = 0; j < n_; ++j) x.segment(j * C_, C_) = coefficients.row(j).transpose();
   for (int b = 0; b < basis_.num_bases(); ++b)
     if (unknown_index_[b] >= 0) x(n_ * C_ + unknown_index_[b]) = frequencies[b];
+  if (num_condensed_ > 0) {
+    Eigen::VectorXd condensed(num_unknowns_);
+    for (int j = 0; j < n_; ++j)
+      if (column_[j] >= 0) condensed.segment(column_[j], C_) = x.segment(j * C_, C_);
+    condensed.tail(num_unknowns_ - frequency_column_) = x.tail(layout_size_ - n_ * C_);
+    return condensed;
+  }
   if (kept_unknowns_.empty()) return x;
   Eigen::VectorXd reduced(num_unknowns_);
   for (int i = 0; i < num_unknowns_; ++i) reduced(i) = x(kept_unknowns_[i]);
@@ -149,8 +255,9 @@ Eigen::VectorXd CollocationResidual::Pack(const Eigen::MatrixXd& coefficients,
 
 void CollocationResidual::Unpack(const Eigen::VectorXd& x, Eigen::MatrixXd* coefficients,
                                  std::vector<double>* frequencies) const {
-  Eigen::VectorXd full = Eigen::VectorXd::Zero(full_unknowns_);
-  if (kept_unknowns_.empty()) full = x;
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(layout_size_);
+  if (num_condensed_ > 0) Expand(x, &full);
+  else if (kept_unknowns_.empty()) full = x;
   else
     for (int i = 0; i < num_unknowns_; ++i) full(kept_unknowns_[i]) = x(i);
   coefficients->resize(n_, C_);
@@ -184,6 +291,10 @@ void CollocationResidual::EvaluateSamples(const CompiledEquation& eq, int slot, 
 
 bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                    Eigen::MatrixXd* jacobian) {
+  if (num_condensed_ > 0) {
+    Expand(x, &expanded_);
+    return EvaluateFull(expanded_, residual, jacobian);
+  }
   if (kept_unknowns_.empty()) return EvaluateFull(x, residual, jacobian);
   for (int i = 0; i < num_unknowns_; ++i) full_x_(kept_unknowns_[i]) = x(i);
   const bool ok = EvaluateFull(full_x_, &full_residual_, jacobian ? &full_jacobian_ : nullptr);
@@ -223,6 +334,7 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
   if (jacobian) jacobian->setZero(full_residuals_, full_unknowns_);
   for (size_t i = 0; i < equations_.size(); ++i) {
     const CompiledEquation& eq = equations_[i];
+    if (eq.first_row < 0) continue;  // condensed: satisfied by construction
     const int skip = eq.balance_constant ? 0 : 1;
     const int rows = C_ - skip;
     EvaluateSamples(eq, -1, work_.data());
@@ -237,7 +349,7 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
       block_.setZero();
       transform_->AddMultiplicationMatrix(1.0, slots_[s].derivative ? rates_.data() : nullptr,
                                           block_);
-      jacobian->block(eq.first_row, j * C_, rows, C_) += block_.bottomRows(rows);
+      AddVariableBlock(jacobian, eq.first_row, block_.bottomRows(rows), j, x);
       if (slots_[s].derivative == 0) continue;
       // z' = sum_b w_b d z / d theta_b: a column per unknown frequency.
       for (int b = 0; b < basis_.num_bases(); ++b) {
@@ -252,7 +364,7 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
         transform_->Synthesize(coef_.data(), term_.data());
         term_.array() *= work_.array();
         transform_->Project(term_.data(), proj_.data());
-        jacobian->col(n_ * C_ + unknown_index_[b]).segment(eq.first_row, rows) += proj_.tail(rows);
+        jacobian->col(FrequencyColumn(b)).segment(eq.first_row, rows) += proj_.tail(rows);
       }
     }
   }
@@ -276,19 +388,20 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
       (*residual)(row) = cond.function(z, dz, jacobian ? &gz : nullptr, jacobian ? &gdz : nullptr);
       if (jacobian) {
         for (int j = 0; j < n_; ++j) {
-          if (gz(j) != 0) {
-            (*jacobian)(row, j * C_) += gz(j);
-            for (int k = 1; k < basis_.size(); ++k) (*jacobian)(row, j * C_ + 2 * k - 1) += gz(j);
+          if (gz(j) == 0 && gdz(j) == 0) continue;
+          Eigen::MatrixXd g = Eigen::MatrixXd::Zero(1, C_);
+          g(0, 0) = gz(j);
+          for (int k = 1; k < basis_.size(); ++k) {
+            g(0, 2 * k - 1) = gz(j);
+            g(0, 2 * k) = gdz(j) * rates_[k];
           }
-          if (gdz(j) != 0) {
-            for (int k = 1; k < basis_.size(); ++k)
-              (*jacobian)(row, j * C_ + 2 * k) += gdz(j) * rates_[k];
-            for (int b = 0; b < basis_.num_bases(); ++b) {
-              if (unknown_index_[b] < 0) continue;
-              double d = 0;
-              for (int k = 1; k < basis_.size(); ++k) d += basis_.harmonic(k)[b] * x(j * C_ + 2 * k);
-              (*jacobian)(row, n_ * C_ + unknown_index_[b]) += gdz(j) * d;
-            }
+          AddVariableBlock(jacobian, row, g, j, x);
+          if (gdz(j) == 0) continue;
+          for (int b = 0; b < basis_.num_bases(); ++b) {
+            if (unknown_index_[b] < 0) continue;
+            double d = 0;
+            for (int k = 1; k < basis_.size(); ++k) d += basis_.harmonic(k)[b] * x(j * C_ + 2 * k);
+            (*jacobian)(row, FrequencyColumn(b)) += gdz(j) * d;
           }
         }
       }

@@ -1,6 +1,8 @@
 #include "rmhb/harmonic_balance.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -11,6 +13,11 @@ std::string HarmonicBalanceOptions::IsValid() const {
   if (order < 1) return "order must be >= 1 (got " + std::to_string(order) + ")";
   if (order > 20000) return "order " + std::to_string(order) + " is unreasonably large";
   if (!(max_gcd_excess > 0)) return "max_gcd_excess must be > 0";
+  if (!(tolerance >= 0) || !std::isfinite(tolerance))
+    return "tolerance must be finite and >= 0 (0: fixed order)";
+  if (tolerance > 0 && max_order < order)
+    return "max_order (" + std::to_string(max_order) + ") is below order (" +
+           std::to_string(order) + ")";
   for (int m : samples)
     if (m < 1) return "samples must be >= 1 (got " + std::to_string(m) + ")";
   return solver.IsValid();
@@ -51,6 +58,11 @@ std::string HarmonicBalanceSummary::FullReport() const {
                      : " (below the bound: aliasing, non-physical solutions possible)")
       << "\n";
   out << "  " << solver.FullReport();
+  if (truncation_estimate >= 0) {
+    out << "  order selection: orders";
+    for (int o : orders_tried) out << " " << o;
+    out << "; estimated truncation error " << truncation_estimate << "\n";
+  }
   if (solution) {
     out << "  frequencies:";
     for (double w : solution->frequencies()) out << " " << w;
@@ -141,7 +153,7 @@ HarmonicBalanceSummary SolveAtOrder(const HarmonicBalanceProblem& problem,
         "); aliasing gives non-physical solutions. Use the hdhb method or allow aliasing explicitly");
   summary.sampling = sampling.description;
 
-  CollocationResidual residual(problem, basis, sampling);
+  CollocationResidual residual(problem, basis, sampling, options.condense_definitions);
   std::vector<double> w = guess.frequencies();
   for (int b = 0; b < d; ++b)
     if (problem.unknown_frequency.empty() || !problem.unknown_frequency[b])
@@ -155,20 +167,9 @@ HarmonicBalanceSummary SolveAtOrder(const HarmonicBalanceProblem& problem,
   return summary;
 }
 
-}  // namespace
-
-HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& problem,
-                                            const HarmonicSolution& initial_guess,
-                                            const HarmonicBalanceOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  if (std::string why = options.IsValid(); !why.empty())
-    throw std::invalid_argument("invalid options: " + why);
-  problem.Validate();
-  if (initial_guess.num_variables() != problem.system.num_variables())
-    throw std::invalid_argument("initial guess has " + std::to_string(initial_guess.num_variables()) +
-                                " variables, the system " +
-                                std::to_string(problem.system.num_variables()));
-
+HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& problem,
+                                             const HarmonicSolution& initial_guess,
+                                             const HarmonicBalanceOptions& options) {
   HarmonicSolution guess = initial_guess;
   // Warm start through coarser orders: cheap solves that bring the guess into
   // the quadratic convergence region of the large system.
@@ -190,7 +191,117 @@ HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& proble
           guess = *s.solution;
     }
   }
-  HarmonicBalanceSummary summary = SolveAtOrder(problem, guess, options);
+  return SolveAtOrder(problem, guess, options);
+}
+
+// Harmonic magnitudes |c_k| (each variable scaled as in SolutionDifference)
+// fall geometrically for an analytic solution; a straight line through the
+// log of their running-maximum envelope over the upper half of the levels
+// predicts the level where they reach `target`.
+int PredictOrder(const HarmonicSolution& s, double target) {
+  const HarmonicBasis& basis = s.basis();
+  const Eigen::MatrixXd& c = s.coefficients();
+  int top = 0;
+  std::vector<int> level(basis.size());
+  for (int k = 0; k < basis.size(); ++k) {
+    for (int m : basis.harmonic(k)) level[k] += std::abs(m);
+    top = std::max(top, level[k]);
+  }
+  std::vector<double> size(top + 1, 0.0);
+  for (int j = 0; j < s.num_variables(); ++j) {
+    const double scale = std::max(1.0, c.row(j).cwiseAbs().maxCoeff());
+    for (int k = 1; k < basis.size(); ++k)
+      size[level[k]] = std::max(size[level[k]], std::hypot(c(j, 2 * k - 1), c(j, 2 * k)) / scale);
+  }
+  for (int l = top - 1; l >= 0; --l) size[l] = std::max(size[l], size[l + 1]);
+  double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
+  for (int l = std::max(1, top / 2); l <= top; ++l) {
+    if (!(size[l] > 0)) continue;
+    const double y = std::log(size[l]);
+    sx += l, sy += y, sxx += double(l) * l, sxy += l * y, n += 1;
+  }
+  const double slope = n >= 2 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : 0;
+  if (!(slope < -1e-3) || !(size[top] > 0)) return 2 * top;  // no decay seen yet
+  if (size[top] <= target) return top;
+  return top + static_cast<int>(std::ceil(std::log(target / size[top]) / slope));
+}
+
+HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
+                                   const HarmonicSolution& initial_guess,
+                                   const HarmonicBalanceOptions& options) {
+  HarmonicBalanceOptions o = options;
+  o.tolerance = 0;
+  HarmonicBalanceSummary current = SolveWithContinuation(problem, initial_guess, o);
+  std::vector<int> tried = {o.order};
+  auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {
+    s.orders_tried = tried;
+    if (s.solver.converged()) s.solver.status = SolverStatus::kNoConvergence;
+    s.solver.message = "order selection: " + why + (s.solver.message.empty() ? "" : "; ") +
+                       s.solver.message;
+    return s;
+  };
+  double estimate = INFINITY;
+  for (;;) {
+    if (!current.converged() || !current.solution)
+      return stop(current, "the solve at order " + std::to_string(o.order) + " failed");
+    if (o.order >= options.max_order) {
+      std::ostringstream why;
+      why << "tolerance " << options.tolerance << " not reached by max_order "
+          << options.max_order << " (estimated error " << estimate << ")";
+      current.truncation_estimate = estimate;
+      return stop(current, why.str());
+    }
+    // Aim a little below the tolerance; grow by 25% at least (a difference
+    // of nearly equal orders says little) and at most double.
+    const int predicted = PredictOrder(*current.solution, 0.1 * options.tolerance);
+    const int next = std::min(options.max_order,
+                              std::clamp(predicted + 2, o.order + std::max(2, o.order / 4), 2 * o.order));
+    HarmonicBalanceOptions n = o;
+    n.order = next;
+    n.order_continuation = false;  // warm-started from the previous order
+    HarmonicBalanceSummary higher = SolveAtOrder(problem, *current.solution, n);
+    tried.push_back(next);
+    if (!higher.converged() || !higher.solution)
+      return stop(higher, "the solve at order " + std::to_string(next) + " failed");
+    estimate = SolutionDifference(*current.solution, *higher.solution);
+    current = std::move(higher);
+    o = n;
+    if (estimate <= options.tolerance) break;
+  }
+  current.orders_tried = tried;
+  current.truncation_estimate = estimate;
+  return current;
+}
+
+}  // namespace
+
+double SolutionDifference(const HarmonicSolution& a, const HarmonicSolution& b) {
+  const HarmonicSolution& big = a.basis().size() >= b.basis().size() ? a : b;
+  const HarmonicSolution& small = &big == &a ? b : a;
+  const Eigen::MatrixXd c = big.coefficients();
+  const Eigen::MatrixXd d = small.OnBasis(big.basis()).coefficients() - c;
+  double worst = 0;
+  for (int j = 0; j < c.rows(); ++j)
+    worst = std::max(worst, d.row(j).cwiseAbs().maxCoeff() / std::max(1.0, c.row(j).cwiseAbs().maxCoeff()));
+  for (size_t i = 0; i < a.frequencies().size(); ++i)
+    worst = std::max(worst, std::abs(a.frequencies()[i] - b.frequencies()[i]) / std::abs(big.frequencies()[i]));
+  return worst;
+}
+
+HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& problem,
+                                            const HarmonicSolution& initial_guess,
+                                            const HarmonicBalanceOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (std::string why = options.IsValid(); !why.empty())
+    throw std::invalid_argument("invalid options: " + why);
+  problem.Validate();
+  if (initial_guess.num_variables() != problem.system.num_variables())
+    throw std::invalid_argument("initial guess has " + std::to_string(initial_guess.num_variables()) +
+                                " variables, the system " +
+                                std::to_string(problem.system.num_variables()));
+  HarmonicBalanceSummary summary = options.tolerance > 0
+                                       ? SelectOrder(problem, initial_guess, options)
+                                       : SolveWithContinuation(problem, initial_guess, options);
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

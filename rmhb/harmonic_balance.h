@@ -57,6 +57,21 @@ struct HarmonicBalanceOptions {
   // Solve at lower orders first (N/4, N/2, ...) and warm-start: a high-order
   // solve then needs one or two iterations of the large system.
   bool order_continuation = true;
+  // Eliminate variables defined by a linear equation c1 a' + c2 b = 0 (the
+  // recast's x' = v) and their rows (CollocationResidual): the same discrete
+  // solution with half the unknowns of a second-order oscillator. Ignored
+  // with symmetries.
+  bool condense_definitions = true;
+  // Automatic order selection when > 0: solve at `order`, then raise the
+  // order, warm-started, to where the decay of the highest harmonics says
+  // the truncation falls below `tolerance`, until two successive orders
+  // agree to `tolerance` (max over the relative frequency change and the
+  // coefficient changes, each variable scaled by max(1, its largest
+  // coefficient)). The summary then holds the higher order's solution and,
+  // as its estimate, that difference: the lower order's error, an upper
+  // estimate for the returned one. Not reached by max_order: kNoConvergence.
+  double tolerance = 0;
+  int max_order = 5000;
   SolverOptions solver;
 
   std::string IsValid() const;  // empty when valid
@@ -73,6 +88,10 @@ struct HarmonicBalanceSummary {
   int order = 0;
   SamplingRule rule = SamplingRule::kRhb;
   double seconds = 0;
+  // Order selection (options.tolerance > 0): the orders solved in turn and
+  // the estimated error of the returned solution (-1 when not selected).
+  std::vector<int> orders_tried;
+  double truncation_estimate = -1;
 
   bool converged() const { return solver.converged(); }
   std::string BriefReport() const;
@@ -82,6 +101,10 @@ struct HarmonicBalanceSummary {
 HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& problem,
                                             const HarmonicSolution& initial_guess,
                                             const HarmonicBalanceOptions& options);
+
+// Largest change between two solutions of one problem at different orders,
+// as order selection measures it (see HarmonicBalanceOptions::tolerance).
+double SolutionDifference(const HarmonicSolution& a, const HarmonicSolution& b);
 
 // The basis the options describe for `num_bases` base frequencies.
 HarmonicBasis MakeBasis(int num_bases, const HarmonicBalanceOptions& options);

@@ -20,15 +20,23 @@ class NewtonFactorization {
  public:
   void Factor(const Eigen::MatrixXd& J) {
     square_ = J.rows() == J.cols();
-    if (square_) lu_.compute(J);
-    else qr_.compute(J);
+    if (square_) {
+      lu_.compute(J);
+      reciprocal_condition_ = lu_.rcond();
+    } else {
+      qr_.compute(J);
+      const Eigen::VectorXd r = qr_.matrixQR().diagonal().cwiseAbs();
+      reciprocal_condition_ = r.size() && r.maxCoeff() > 0 ? r.minCoeff() / r.maxCoeff() : 0;
+    }
   }
+  double reciprocal_condition() const { return reciprocal_condition_; }
   Eigen::VectorXd Step(const Eigen::VectorXd& F) const {
     return square_ ? Eigen::VectorXd(-lu_.solve(F)) : Eigen::VectorXd(-qr_.solve(F));
   }
 
  private:
   bool square_ = true;
+  double reciprocal_condition_ = 0;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
 };
@@ -105,6 +113,8 @@ std::string SolverSummary::FullReport() const {
   out << "  unknowns " << num_unknowns << ", residuals " << num_residuals << ", evaluations "
       << evaluations << ", last step " << final_step << "\n";
   if (condition_estimate > 0) out << "  condition estimate of J: " << condition_estimate << "\n";
+  if (reciprocal_condition > 0)
+    out << "  reciprocal condition of the last factorised J: " << reciprocal_condition << "\n";
   if (!message.empty()) out << "  " << message << "\n";
   return out.str();
 }
@@ -207,6 +217,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     if (method == SolverMethod::kNewton) {
       if (!factored) {
         factorization.Factor(J);
+        s.reciprocal_condition = factorization.reciprocal_condition();
         factored = true;
         chord = false;
       }

@@ -86,6 +86,13 @@ struct SolverSummary {
   double final_residual = 0;
   double final_step = 0;
   double condition_estimate = 0;  // 0 when not estimated
+  // Cheap reciprocal condition of the last factorised Newton Jacobian, free
+  // with every Newton solve (O(n^2) on top of the O(n^3) factorisation): the
+  // LU's 1-norm estimate (Hager/Higham) when square, min/max |R_ii| of the QR
+  // when overdetermined (a rough lower bound on the true 1/cond). 0 when not
+  // computed (regularised methods). Near 1e-16 the last digits of the
+  // solution are not to be trusted whatever the residual says.
+  double reciprocal_condition = 0;
   double seconds = 0;
   std::vector<double> residual_history;
   int num_unknowns = 0;

@@ -13,12 +13,12 @@ namespace {
 
 // Analytic Jacobian against central differences, with unknown frequency,
 // point conditions, forcing, dropped constant balances and algebraic rows.
-void CheckJacobian(const std::string& example, int order) {
+void CheckJacobian(const std::string& example, int order, bool condense = false) {
   examples::ExampleSetup e = examples::BuildExample(example);
   const HarmonicBasis basis = HarmonicBasis::Periodic(order);
   const Sampling sampling =
       Sampling::Uniform(FftFriendlySize(e.problem.system.AliasFreeSamples(order)));
-  CollocationResidual r(e.problem, basis, sampling);
+  CollocationResidual r(e.problem, basis, sampling, condense);
   std::mt19937 gen(7);
   std::uniform_real_distribution<double> u(-0.05, 0.05);
   const HarmonicSolution g = e.guess.OnBasis(basis);
@@ -49,6 +49,32 @@ TEST(CollocationResidual, JacobianMatchesFiniteDifferences) {
   CheckJacobian("relativistic", 5);
   CheckJacobian("vanderpol", 7);
   CheckJacobian("rayleigh-plesset", 5);
+}
+
+// With x' = v condensed away, the chain rule through v = D(w) x (including
+// its dependence on the unknown frequency and on the point conditions on v).
+TEST(CollocationResidual, CondensedJacobianMatchesFiniteDifferences) {
+  for (const char* example : {"duffing", "pendulum", "relativistic", "vanderpol", "rayleigh-plesset"})
+    CheckJacobian(example, 6, true);
+}
+
+TEST(CollocationResidual, CondensationDropsTheDefinedVariableAndItsRows) {
+  examples::ExampleSetup e = examples::BuildExample("vanderpol");
+  CollocationResidual full(e.problem, HarmonicBasis::Periodic(10), Sampling::Uniform(41));
+  CollocationResidual condensed(e.problem, HarmonicBasis::Periodic(10), Sampling::Uniform(41), true);
+  EXPECT_EQ(condensed.num_condensed_variables(), 1);
+  EXPECT_EQ(condensed.num_unknowns(), full.num_unknowns() - 21);
+  EXPECT_EQ(condensed.num_residuals(), full.num_residuals() - 21);
+  // Same discrete solution: the condensed solve reproduces u = x' exactly.
+  HarmonicBalanceOptions on, off;
+  on.order = off.order = 30;
+  off.condense_definitions = false;
+  const HarmonicBalanceSummary a = SolveHarmonicBalance(e.problem, e.guess, on);
+  const HarmonicBalanceSummary b = SolveHarmonicBalance(e.problem, e.guess, off);
+  ASSERT_TRUE(a.converged() && b.converged()) << a.FullReport() << b.FullReport();
+  EXPECT_LT(SolutionDifference(*a.solution, *b.solution), 1e-12);
+  EXPECT_LT(std::abs(a.solution->Value(1, 0.7) - a.solution->Derivative(0, 0.7)), 1e-12);
+  EXPECT_EQ(a.solver.num_unknowns, b.solver.num_unknowns - 61);
 }
 
 TEST(CollocationResidual, SizesCountDroppedBalancesAndConditions) {
