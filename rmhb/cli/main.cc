@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "rmhb/cli/commands.h"
+#include "rmhb/cli/continuation_command.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/identify_command.h"
 #include "rmhb/cli/montecarlo_command.h"
@@ -31,6 +32,8 @@ int main(int argc, char** argv) {
       "Prints the frequency, the harmonic coefficients and, with --validate, the maximum\n"
       "error against a SUNDIALS integration of the ORIGINAL equations.");
   AddSolveOptions(solve_cmd, &solve);
+  ContinuationArgs continuation;
+  AddContinuationOptions(solve_cmd, &continuation);
 
   RecastArgs recast;
   CLI::App* recast_cmd = app.add_subcommand(
@@ -67,7 +70,7 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   try {
-    if (*solve_cmd) return RunSolve(solve);
+    if (*solve_cmd) return continuation.range.empty() ? RunSolve(solve) : RunContinuation(solve, continuation);
     if (*list_cmd) return RunList(list_json);
     if (*recast_cmd) return RunRecast(recast);
     if (*identify_cmd) return RunIdentify(identify);

@@ -106,16 +106,22 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
   app->add_flag("--allow-aliasing", a->allow_aliasing, "Accept M below the alias-free bound");
 }
 
-PreparedSolve PrepareSolve(const SolveSettings& a) {
-  const std::map<std::string, double> values = ParseOverrides(a.set);
+ProblemSource LoadSolveProblem(const SolveSettings& a, const std::map<std::string, double>& overrides) {
+  std::map<std::string, double> values = ParseOverrides(a.set);
+  for (const auto& [name, value] : overrides) values[name] = value;
+  ProblemSource source = LoadProblem(a.model, values);
+  if (!a.frequencies.empty()) ApplyFrequencies(a.frequencies, &source.problem);
+  return source;
+}
+
+PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, double>& overrides) {
   if (a.order != -1 && a.order < 1)
     throw std::invalid_argument("--order must be >= 1 (got " + std::to_string(a.order) + ")");
   if (a.samples != -1 && a.samples < 1)
     throw std::invalid_argument("--samples must be >= 1 (got " + std::to_string(a.samples) + ")");
-  ProblemSource source = LoadProblem(a.model, values);
+  ProblemSource source = LoadSolveProblem(a, overrides);
   HarmonicBalanceProblem& problem = source.problem;
   const int bases = static_cast<int>(problem.frequencies.size());
-  if (!a.frequencies.empty()) ApplyFrequencies(a.frequencies, &problem);
 
   HarmonicBalanceOptions options;
   options.order = a.order > 0 ? a.order : source.default_order;

@@ -7,6 +7,7 @@
 // they make. One place, so that `--order 25 --method hdhb` means the same to
 // every command.
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,9 +46,15 @@ struct PreparedSolve {
   HarmonicSolution guess;  // at options.order, with the problem's frequencies
 };
 
-// Loads the model, applies --set and --frequencies, and builds the options
-// and the starting guess. Throws std::invalid_argument naming the bad value.
-PreparedSolve PrepareSolve(const SolveSettings& settings);
+// Loads the model with --set (and `overrides` on top, e.g. a continuation
+// parameter's value) and applies --frequencies. Throws
+// std::invalid_argument naming the bad value.
+ProblemSource LoadSolveProblem(const SolveSettings& settings,
+                               const std::map<std::string, double>& overrides = {});
+
+// LoadSolveProblem, then the options and the starting guess.
+PreparedSolve PrepareSolve(const SolveSettings& settings,
+                           const std::map<std::string, double>& overrides = {});
 
 // "a,b,c" or "a:b:c" -> numbers; throws std::invalid_argument naming `what`
 // and the item that is not a finite number.
