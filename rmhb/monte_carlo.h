@@ -94,7 +94,7 @@ struct RuleCensus {
   std::vector<SolutionCluster> clusters;  // by decreasing count
   int non_physical_clusters() const;
   double share(SolutionClass c) const;  // percent of converged starts
-  double solve_seconds = 0;             // CPU seconds over all threads
+  double solve_seconds = 0;             // CPU seconds of the solves, all threads together
 };
 
 struct MonteCarloSummary {
