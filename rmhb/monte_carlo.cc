@@ -83,7 +83,8 @@ const char* ToString(SolutionClass c) {
 
 std::string MonteCarloOptions::IsValid() const {
   if (starts < 1) return "starts must be >= 1 (got " + std::to_string(starts) + ")";
-  if (starts > 100'000'000) return "starts must be <= 1e8 (got " + std::to_string(starts) + ")";
+  // Every converged start is kept until clustering: ~300 bytes per start and method.
+  if (starts > 10'000'000) return "starts must be <= 1e7 (got " + std::to_string(starts) + ")";
   if (!std::isfinite(low) || !std::isfinite(high) || !(low < high))
     return "the range must be finite with low < high";
   if (threads < 0 || threads > 1024) return "threads must be in 0..1024 (0: all cores)";

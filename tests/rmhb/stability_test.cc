@@ -94,6 +94,36 @@ TEST(Stability, HillAndFloquetAgreeOnTheThreeDuffingBranches) {
   EXPECT_NEAR(b[1].floquet.multipliers[0].imag(), 0.0, 1e-12);
 }
 
+// A linear oscillator (a = 0) has exact exponents -c/2 +- i sqrt(k - c^2/4),
+// whatever the forcing.
+TEST(Stability, ExactExponentsOfTheForcedLinearOscillator) {
+  const examples::ExampleSetup e = examples::BuildExample("duffing", {{"a", 0.0}, {"c", 0.3}, {"w", 1.3}});
+  HarmonicBalanceOptions options;
+  options.order = 8;
+  const HarmonicBalanceSummary s = SolveHarmonicBalance(e.problem, e.guess, options);
+  ASSERT_TRUE(s.converged());
+  const HillStabilityReport h = HillStability(e.problem, *s.solution);
+  const double T = 2 * M_PI / 1.3;
+  const std::complex<double> exact(-0.15, std::sqrt(1 - 0.15 * 0.15));
+  ASSERT_EQ(h.exponents.size(), 2u);
+  EXPECT_TRUE(h.stable);
+  for (const auto& l : h.exponents) {
+    // Any copy lambda + i m w is the same exponent; the multiplier is unique.
+    const std::complex<double> mu = std::exp(l * T);
+    EXPECT_LT(std::min(std::abs(mu - std::exp(exact * T)), std::abs(mu - std::exp(std::conj(exact) * T))), 1e-13)
+        << l;
+  }
+  const integrators::FloquetReport f = integrators::FloquetMultipliers(
+      {2, e.original.rhs}, e.original.state(*s.solution, 0.0), 0.0, T);
+  for (const auto& mu : f.multipliers)
+    EXPECT_LT(std::min(std::abs(mu - std::exp(exact * T)), std::abs(mu - std::exp(std::conj(exact) * T))), 1e-9)
+        << mu;
+  EXPECT_THROW(integrators::FloquetMultipliers({2, e.original.rhs}, Eigen::Vector2d(0, 0), 0.0, 0.0),
+               std::invalid_argument);
+  EXPECT_THROW(integrators::FloquetMultipliers({2, e.original.rhs}, Eigen::Vector3d(0, 0, 0), 0.0, T),
+               std::invalid_argument);
+}
+
 TEST(Stability, HillRefusesPinnedAuxiliariesAndQuasiPeriodicSolutions) {
   const examples::ExampleSetup p = examples::BuildExample("pendulum");
   EXPECT_THROW(HillStability(p.problem, p.guess), std::invalid_argument);
