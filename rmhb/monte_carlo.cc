@@ -53,9 +53,11 @@ void Classify(const HarmonicBalanceProblem& problem, const MonteCarloOptions& op
   reference.rule = SamplingRule::kRhb;
   reference.samples.clear();
   // A physical solution is inside Newton's region of its reference: a few
-  // iterations. What needs many is a non-physical one wandering off.
-  reference.solver.max_iterations = std::min(reference.solver.max_iterations, 30);
-  reference.solver.fallback_max_iterations = std::min(reference.solver.fallback_max_iterations, 10);
+  // iterations, straight at the reference order. What needs many is a
+  // non-physical one wandering off, and there are dozens of those.
+  reference.order_continuation = false;
+  reference.solver.max_iterations = std::min(reference.solver.max_iterations, 25);
+  reference.solver.fallback_max_iterations = std::min(reference.solver.fallback_max_iterations, 5);
   const HarmonicBalanceSummary s = SolveHarmonicBalance(problem, cluster->representative, reference);
   cluster->reference_distance = HUGE_VAL;
   if (!s.converged()) return;
