@@ -124,6 +124,40 @@ TEST(Stability, ExactExponentsOfTheForcedLinearOscillator) {
                std::invalid_argument);
 }
 
+// The damped Mathieu equation x'' + c x' + (delta + eps cos t) x = 0 inside its
+// first tongue: x = 0 is a periodic solution with real NEGATIVE multipliers,
+// whose exponents sigma +- i/2 are equally central copies on the edge of the
+// Brillouin zone; Hill must keep two different exponents, not one twice.
+TEST(Stability, HillKeepsBothFlipMultipliersOfTheMathieuTongue) {
+  const double c = 0.05, delta = 0.25, eps = 0.2;
+  PolynomialSystem s;
+  s.AddVariable("x");
+  s.AddVariable("v");
+  s.AddEquation(s.D("x") - s.Var("v"));
+  s.AddEquation(s.D("v") + c * s.Var("v") + delta * s.Var("x") + Polynomial::Cos({1}, eps) * s.Var("x"));
+  const HarmonicBalanceProblem problem{s, {1.0}, {false}, {}};
+  const HarmonicSolution zero(HarmonicBasis::Periodic(12), {1.0}, Eigen::MatrixXd::Zero(2, 25), s.variables());
+  const HillStabilityReport h = HillStability(problem, zero);
+  const integrators::FloquetReport f = integrators::FloquetMultipliers(
+      {2, [=](double t, const double* y, double* dy) {
+         dy[0] = y[1];
+         dy[1] = -c * y[1] - (delta + eps * std::cos(t)) * y[0];
+       }},
+      Eigen::Vector2d(0, 0), 0.0, 2 * M_PI);
+  SCOPED_TRACE(h.BriefReport() + "; " + f.BriefReport());
+  ASSERT_EQ(h.multipliers.size(), 2u);
+  ASSERT_EQ(f.multipliers.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_LT(f.multipliers[i].real(), 0);
+    EXPECT_NEAR(f.multipliers[i].imag(), 0, 1e-12);
+    // Both sorted by decreasing real part of lambda = decreasing |mu|.
+    EXPECT_NEAR(std::abs(h.multipliers[i] - f.multipliers[i]), 0, 1e-8);
+  }
+  EXPECT_NEAR((f.multipliers[0] * f.multipliers[1]).real(), std::exp(-c * 2 * M_PI), 1e-9);
+  EXPECT_FALSE(h.stable);
+  EXPECT_FALSE(f.stable);
+}
+
 TEST(Stability, HillRefusesPinnedAuxiliariesAndQuasiPeriodicSolutions) {
   const examples::ExampleSetup p = examples::BuildExample("pendulum");
   EXPECT_THROW(HillStability(p.problem, p.guess), std::invalid_argument);
