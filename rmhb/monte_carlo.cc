@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include <time.h>
+
 namespace rmhb {
 namespace {
 
@@ -29,6 +31,14 @@ double RelativeDistance(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
 }
 
+// CPU time of the calling thread: what a solve costs, whatever else the
+// machine is doing.
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
@@ -43,15 +53,21 @@ void Classify(const HarmonicBalanceProblem& problem, const MonteCarloOptions& op
   reference.rule = SamplingRule::kRhb;
   reference.samples.clear();
   // A physical solution is inside Newton's region of its reference: a few
-  // iterations. What needs many is a non-physical one wandering off.
-  reference.solver.max_iterations = std::min(reference.solver.max_iterations, 30);
-  reference.solver.fallback_max_iterations = std::min(reference.solver.fallback_max_iterations, 10);
+  // iterations, straight at the reference order. What needs many is a
+  // non-physical one wandering off, and there are dozens of those.
+  reference.order_continuation = false;
+  reference.solver.max_iterations = std::min(reference.solver.max_iterations, 25);
+  reference.solver.fallback_max_iterations = std::min(reference.solver.fallback_max_iterations, 5);
   const HarmonicBalanceSummary s = SolveHarmonicBalance(problem, cluster->representative, reference);
   cluster->reference_distance = HUGE_VAL;
   if (!s.converged()) return;
   const HarmonicBasis& basis = cluster->representative.basis();
   cluster->reference_distance = RelativeDistance(cluster->representative.coefficients(),
                                                  s.solution->OnBasis(basis).coefficients());
+  // An unknown frequency is part of the solution too.
+  const double w = cluster->representative.frequencies()[0], w_ref = s.solution->frequencies()[0];
+  cluster->reference_distance =
+      std::max(cluster->reference_distance, std::abs(w - w_ref) / std::max(1.0, std::abs(w_ref)));
   if (cluster->reference_distance >= options.match_tolerance) return;
   cluster->reference = *s.solution;
   cluster->hill = HillStability(problem, *s.solution);
@@ -73,7 +89,8 @@ const char* ToString(SolutionClass c) {
 
 std::string MonteCarloOptions::IsValid() const {
   if (starts < 1) return "starts must be >= 1 (got " + std::to_string(starts) + ")";
-  if (starts > 100'000'000) return "starts must be <= 1e8 (got " + std::to_string(starts) + ")";
+  // Every converged start is kept until clustering: ~300 bytes per start and method.
+  if (starts > 10'000'000) return "starts must be <= 1e7 (got " + std::to_string(starts) + ")";
   if (!std::isfinite(low) || !std::isfinite(high) || !(low < high))
     return "the range must be finite with low < high";
   if (threads < 0 || threads > 1024) return "threads must be in 0..1024 (0: all cores)";
@@ -168,6 +185,15 @@ MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
   problem.Validate();
   if (problem.frequencies.size() != 1)
     throw std::invalid_argument("Monte Carlo: periodic problems only (one base frequency)");
+  // An autonomous orbit comes back from random starts as many "solutions":
+  // shifted by half a period where the phase condition allows it, or solved at
+  // w/2, w/3 with every other harmonic zero. Telling those apart from aliasing
+  // needs orbit identification this census does not do: refuse rather than
+  // call a limit cycle non-physical.
+  if (problem.num_unknown_frequencies() > 0)
+    throw std::invalid_argument(
+        "Monte Carlo: forced (known-frequency) periodic problems only; an autonomous orbit "
+        "reappears phase-shifted and at w/2, w/3, ... from random starts");
   // Refuse before the solves, not after them, what Hill's method cannot classify.
   for (const auto& eq : problem.system.equations())
     if (!eq.balance_constant)
@@ -196,9 +222,20 @@ MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
     summary.rules.push_back(census);
   }
 
-  // [rule][start]: the converged coefficients, or empty.
-  std::vector<std::vector<Eigen::MatrixXd>> solutions(num_rules,
-                                                      std::vector<Eigen::MatrixXd>(options.starts));
+  // [rule][start]: the converged solution (empty coefficients if none).
+  struct Found {
+    Eigen::MatrixXd coefficients;
+    std::vector<double> frequencies;  // solved, when unknown
+  };
+  std::vector<std::vector<Found>> solutions(num_rules, std::vector<Found>(options.starts));
+  // Coefficients and (unknown) frequencies alike.
+  auto distance = [](const Found& a, const Found& b) {
+    double d = RelativeDistance(a.coefficients, b.coefficients);
+    for (size_t i = 0; i < a.frequencies.size(); ++i)
+      d = std::max(d, std::abs(a.frequencies[i] - b.frequencies[i]) /
+                          std::max(1.0, std::abs(b.frequencies[i])));
+    return d;
+  };
   std::vector<double> rule_seconds(num_rules, 0);
   std::atomic<long> next{0};
   long done = 0;
@@ -214,14 +251,19 @@ MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
       for (long i; (i = next.fetch_add(1)) < options.starts;) {
         const Eigen::MatrixXd guess = RandomStart(options.seed, i, n, C, options.low, options.high);
         for (int r = 0; r < num_rules; ++r) {
-          const auto t0 = std::chrono::steady_clock::now();
+          const double t0 = ThreadCpuSeconds();
           Eigen::VectorXd x = residuals[r]->Pack(guess, problem.frequencies);
           const SolverSummary s = SolveNonlinear(*residuals[r], &x, options.solve.solver);
           if (s.converged() && x.allFinite()) {
-            std::vector<double> w;
-            residuals[r]->Unpack(x, &solutions[r][i], &w);
+            Found found;
+            residuals[r]->Unpack(x, &found.coefficients, &found.frequencies);
+            // An unknown frequency may converge to w <= 0: not a periodic
+            // solution in the problem's sense (and w = 0 not one at all).
+            bool positive = true;
+            for (double w : found.frequencies) positive = positive && w > 0;
+            if (positive) solutions[r][i] = std::move(found);
           }
-          seconds[r] += Seconds(t0);
+          seconds[r] += ThreadCpuSeconds() - t0;
         }
         if (options.progress) {
           std::lock_guard<std::mutex> lock(mutex);
@@ -249,22 +291,23 @@ MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
     std::vector<long> first;  // representative start of each cluster
     std::vector<long> count;
     for (long i = 0; i < options.starts; ++i) {
-      const Eigen::MatrixXd& x = solutions[r][i];
-      if (x.size() == 0) {
+      const Found& x = solutions[r][i];
+      if (x.coefficients.size() == 0) {
         ++census.failed;
         continue;
       }
       ++census.converged;
       size_t c = 0;
       while (c < first.size() &&
-             RelativeDistance(x, solutions[r][first[c]]) >= options.cluster_tolerance)
+             distance(x, solutions[r][first[c]]) >= options.cluster_tolerance)
         ++c;
       if (c == first.size()) first.push_back(i), count.push_back(0);
       ++count[c];
     }
     for (size_t c = 0; c < first.size(); ++c) {
-      census.clusters.emplace_back(HarmonicSolution(basis, problem.frequencies, solutions[r][first[c]],
-                                                    problem.system.variables()));
+      const Found& f = solutions[r][first[c]];
+      census.clusters.emplace_back(
+          HarmonicSolution(basis, f.frequencies, f.coefficients, problem.system.variables()));
       census.clusters.back().count = count[c];
       census.clusters.back().share = 100.0 * count[c] / census.converged;
     }

@@ -90,11 +90,11 @@ struct RuleCensus {
   int samples = 0;
   int alias_free_samples = 0;
   long converged = 0;
-  long failed = 0;                  // starts that did not converge
+  long failed = 0;                  // starts that did not converge (or reached w <= 0)
   std::vector<SolutionCluster> clusters;  // by decreasing count
   int non_physical_clusters() const;
   double share(SolutionClass c) const;  // percent of converged starts
-  double solve_seconds = 0;             // CPU seconds over all threads
+  double solve_seconds = 0;             // CPU seconds of the solves, all threads together
 };
 
 struct MonteCarloSummary {
@@ -109,8 +109,9 @@ struct MonteCarloSummary {
   std::string FullReport() const;  // the Table-1 style table
 };
 
-// Throws std::invalid_argument for invalid options or a problem the random
-// starts cannot be drawn for (quasi-periodic).
+// Throws std::invalid_argument for invalid options or a problem the census
+// cannot classify: quasi-periodic, autonomous (unknown frequency), or with
+// pinned recast auxiliaries (Hill's method does not apply).
 MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
                                 const MonteCarloOptions& options);
 

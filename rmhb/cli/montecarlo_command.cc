@@ -71,8 +71,7 @@ void AddMonteCarloOptions(CLI::App* app, MonteCarloArgs* a) {
   app->add_option("--order,-N", a->order, "Harmonic order N of every solve (default 3)");
   app->add_option("--starts", a->starts, "Number of random starts (default 10000)");
   app->add_option("--range", a->range,
-                  "Every coefficient of a start is uniform in lo:hi (default -2:2; write "
-                  "--range=-2:2 when lo is negative)");
+                  "Every coefficient of a start is uniform in lo:hi (default -2:2)");
   app->add_option("--seed", a->seed, "Random seed; the result depends on it only, not on --threads (default 1)");
   app->add_option("--threads", a->threads, "Worker threads (default 0: all cores)");
   app->add_option("--methods", a->methods, "Sampling rules to compare, from rhb, hdhb, aft (default rhb,hdhb)");

@@ -74,6 +74,7 @@ TEST(MonteCarloCli, BadInputIsExitTwoWithAMessage) {
   }
   EXPECT_EQ(RunCli("montecarlo no-such-model --starts 5 2>&1").code, 2);
   EXPECT_EQ(RunCli("montecarlo pendulum --starts 5 2>&1").code, 2);  // Hill cannot classify it
+  EXPECT_EQ(RunCli("montecarlo vanderpol --starts 5 2>&1").code, 2);  // autonomous
   EXPECT_EQ(RunCli("montecarlo 2>&1").code, 1);                       // usage
 }
 

@@ -99,6 +99,7 @@ TEST(MonteCarlo, RefusesBadOptions) {
   EXPECT_THROW(RunMonteCarlo(Duffing().problem, o), std::invalid_argument);
   o = Options(10, 1);
   EXPECT_THROW(RunMonteCarlo(examples::BuildExample("pendulum").problem, o), std::invalid_argument);
+  EXPECT_THROW(RunMonteCarlo(examples::BuildExample("vanderpol").problem, o), std::invalid_argument);
 }
 
 }  // namespace

@@ -94,6 +94,70 @@ TEST(Stability, HillAndFloquetAgreeOnTheThreeDuffingBranches) {
   EXPECT_NEAR(b[1].floquet.multipliers[0].imag(), 0.0, 1e-12);
 }
 
+// A linear oscillator (a = 0) has exact exponents -c/2 +- i sqrt(k - c^2/4),
+// whatever the forcing.
+TEST(Stability, ExactExponentsOfTheForcedLinearOscillator) {
+  const examples::ExampleSetup e = examples::BuildExample("duffing", {{"a", 0.0}, {"c", 0.3}, {"w", 1.3}});
+  HarmonicBalanceOptions options;
+  options.order = 8;
+  const HarmonicBalanceSummary s = SolveHarmonicBalance(e.problem, e.guess, options);
+  ASSERT_TRUE(s.converged());
+  const HillStabilityReport h = HillStability(e.problem, *s.solution);
+  const double T = 2 * M_PI / 1.3;
+  const std::complex<double> exact(-0.15, std::sqrt(1 - 0.15 * 0.15));
+  ASSERT_EQ(h.exponents.size(), 2u);
+  EXPECT_TRUE(h.stable);
+  for (const auto& l : h.exponents) {
+    // Any copy lambda + i m w is the same exponent; the multiplier is unique.
+    const std::complex<double> mu = std::exp(l * T);
+    EXPECT_LT(std::min(std::abs(mu - std::exp(exact * T)), std::abs(mu - std::exp(std::conj(exact) * T))), 1e-13)
+        << l;
+  }
+  const integrators::FloquetReport f = integrators::FloquetMultipliers(
+      {2, e.original.rhs}, e.original.state(*s.solution, 0.0), 0.0, T);
+  for (const auto& mu : f.multipliers)
+    EXPECT_LT(std::min(std::abs(mu - std::exp(exact * T)), std::abs(mu - std::exp(std::conj(exact) * T))), 1e-9)
+        << mu;
+  EXPECT_THROW(integrators::FloquetMultipliers({2, e.original.rhs}, Eigen::Vector2d(0, 0), 0.0, 0.0),
+               std::invalid_argument);
+  EXPECT_THROW(integrators::FloquetMultipliers({2, e.original.rhs}, Eigen::Vector3d(0, 0, 0), 0.0, T),
+               std::invalid_argument);
+}
+
+// The damped Mathieu equation x'' + c x' + (delta + eps cos t) x = 0 inside its
+// first tongue: x = 0 is a periodic solution with real NEGATIVE multipliers,
+// whose exponents sigma +- i/2 are equally central copies on the edge of the
+// Brillouin zone; Hill must keep two different exponents, not one twice.
+TEST(Stability, HillKeepsBothFlipMultipliersOfTheMathieuTongue) {
+  const double c = 0.05, delta = 0.25, eps = 0.2;
+  PolynomialSystem s;
+  s.AddVariable("x");
+  s.AddVariable("v");
+  s.AddEquation(s.D("x") - s.Var("v"));
+  s.AddEquation(s.D("v") + c * s.Var("v") + delta * s.Var("x") + Polynomial::Cos({1}, eps) * s.Var("x"));
+  const HarmonicBalanceProblem problem{s, {1.0}, {false}, {}};
+  const HarmonicSolution zero(HarmonicBasis::Periodic(12), {1.0}, Eigen::MatrixXd::Zero(2, 25), s.variables());
+  const HillStabilityReport h = HillStability(problem, zero);
+  const integrators::FloquetReport f = integrators::FloquetMultipliers(
+      {2, [=](double t, const double* y, double* dy) {
+         dy[0] = y[1];
+         dy[1] = -c * y[1] - (delta + eps * std::cos(t)) * y[0];
+       }},
+      Eigen::Vector2d(0, 0), 0.0, 2 * M_PI);
+  SCOPED_TRACE(h.BriefReport() + "; " + f.BriefReport());
+  ASSERT_EQ(h.multipliers.size(), 2u);
+  ASSERT_EQ(f.multipliers.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_LT(f.multipliers[i].real(), 0);
+    EXPECT_NEAR(f.multipliers[i].imag(), 0, 1e-12);
+    // Both sorted by decreasing real part of lambda = decreasing |mu|.
+    EXPECT_NEAR(std::abs(h.multipliers[i] - f.multipliers[i]), 0, 1e-8);
+  }
+  EXPECT_NEAR((f.multipliers[0] * f.multipliers[1]).real(), std::exp(-c * 2 * M_PI), 1e-9);
+  EXPECT_FALSE(h.stable);
+  EXPECT_FALSE(f.stable);
+}
+
 TEST(Stability, HillRefusesPinnedAuxiliariesAndQuasiPeriodicSolutions) {
   const examples::ExampleSetup p = examples::BuildExample("pendulum");
   EXPECT_THROW(HillStability(p.problem, p.guess), std::invalid_argument);
