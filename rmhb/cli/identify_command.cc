@@ -12,6 +12,7 @@
 #include "frequency_id/frequency_identification.h"
 #include "frequency_id/signal_io.h"
 #include "integrators/cvode_integrator.h"
+#include "integrators/ida_integrator.h"
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/problem_source.h"
@@ -25,7 +26,8 @@ using nlohmann::json;
 // The model's own trajectory, sampled uniformly after the transient.
 frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known, double* seconds) {
   const ProblemSource source = LoadProblem(a.model, ParseOverrides(a.set));
-  if (!source.original) throw std::invalid_argument("cannot integrate the model: " + source.original_error);
+  if (!source.original && !source.original_dae)
+    throw std::invalid_argument("cannot integrate the model: " + source.original_error);
   const std::vector<double>& w = source.problem.frequencies;
   for (size_t b = 0; b < w.size(); ++b)
     if (source.problem.unknown_frequency.empty() || !source.problem.unknown_frequency[b]) known->push_back(w[b]);
@@ -56,7 +58,10 @@ frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known,
   io.relative_tolerance = 1e-13;
   io.absolute_tolerance = 1e-15;
   const auto start = std::chrono::steady_clock::now();
-  const integrators::IntegrationResult r = integrators::IntegrateOde(source.original(w), y0, 0.0, times, io);
+  const integrators::IntegrationResult r =
+      source.original_dae ? integrators::IntegrateDae(source.original_dae(w), y0,
+                                                      Eigen::VectorXd::Zero(y0.size()), 0.0, times, io)
+                          : integrators::IntegrateOde(source.original(w), y0, 0.0, times, io);
   *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!r.ok()) throw std::runtime_error("integration failed: " + r.message);
   frequency_id::Signal signal;
