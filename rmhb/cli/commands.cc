@@ -244,11 +244,16 @@ int RunSolve(const SolveArgs& a) {
         if (reference.contains("max_error"))
           std::printf("error        max over one period %.3e\n", reference["max_error"].get<double>());
       }
-      if (!validation.is_null())
+      if (!validation.is_null() && validation["max_error"].is_null())
+        std::printf("validation   failed: %s integration did not finish: %s (%.1f ms)\n",
+                    validation["integrator"].get<std::string>().c_str(),
+                    validation["message"].get<std::string>().c_str(),
+                    validation["seconds"].get<double>() * 1e3);
+      else if (!validation.is_null())
         std::printf("validation   %s: max error %.3e over %d (longest) period(s) against %s (%.1f ms)\n",
                     validation["status"].get<std::string>().c_str(),
-                    validation["max_error"].is_null() ? NAN : validation["max_error"].get<double>(),
-                    a.validate_periods, validation["integrator"].get<std::string>().c_str(),
+                    validation["max_error"].get<double>(), a.validate_periods,
+                    validation["integrator"].get<std::string>().c_str(),
                     validation["seconds"].get<double>() * 1e3);
     }
   }

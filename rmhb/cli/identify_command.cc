@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 #include "frequency_id/frequency_identification.h"
@@ -78,8 +79,22 @@ void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
   app->add_option("model", a->model, "Example name or model file to integrate (or use --signal)");
   app->add_option("--signal", a->signal, "CSV file: a time column, then one column per channel");
   app->add_option("--set", a->set, "Override a model parameter: --set name=value");
-  app->add_option("--t-end", a->t_end, "Length of the integrated record (default: from the frequencies)");
-  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth)");
+  // Explicit values must be finite: the defaults are marked by 0 and -1.
+  auto finite_at_least = [](double low, bool strict) {
+    return CLI::Validator(
+        [low, strict](std::string& text) -> std::string {
+          char* end = nullptr;
+          const double v = std::strtod(text.c_str(), &end);
+          const bool ok = end != text.c_str() && *end == '\0' && std::isfinite(v) &&
+                          (strict ? v > low : v >= low);
+          return ok ? "" : "'" + text + "' must be a finite number " + (strict ? "> " : ">= ") + "0";
+        },
+        strict ? "POSITIVE" : "NONNEGATIVE");
+  };
+  app->add_option("--t-end", a->t_end, "Length of the integrated record (default: from the frequencies)")
+      ->check(finite_at_least(0, true));
+  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth)")
+      ->check(finite_at_least(0, false));
   app->add_option("--samples-per-period", a->samples_per_period,
                   "Samples per period of the fastest base (default 32)")
       ->check(CLI::Range(4, 4096));
