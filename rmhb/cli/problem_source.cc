@@ -55,6 +55,9 @@ ProblemSource FromFile(const std::string& path, const std::map<std::string, doub
       bound.BindFrequencies(w);
       return integrators::DaeSystem{bound.dimension, bound.residual, bound.differential};
     };
+    // For commands that only integrate ODEs (they test `original`).
+    p.original_error = "the original equations are a DAE (a variable appears without derivatives); "
+                       "only IDA integrates them";
   } else if (recast->original) {
     p.original = [recast](const std::vector<double>& w) {
       model::OriginalSystem bound = *recast->original;
