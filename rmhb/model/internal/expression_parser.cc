@@ -546,6 +546,11 @@ class Translator {
     // fit a double anyway); tiny ones are harmless.
     static const numeric big = numeric(10).power(308);
     if (GiNaC::abs(n) > big) throw ParseError{Where(node), "number out of range (beyond 1e308)", ""};
+    // A small value may still be a huge fraction: ((2/3)^64)^64 has 2000
+    // digits, and two more powers would not finish.
+    static const numeric digits = numeric(2).power(4096);
+    if (GiNaC::abs(n.numer()) > digits || n.denom() > digits)
+      throw ParseError{Where(node), "number " + Str(value).substr(0, 20) + "... has too many digits", ""};
   }
 
   // Offset of the leftmost number in a (not yet substituted) node; the start
