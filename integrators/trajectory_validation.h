@@ -32,6 +32,15 @@ ValidationReport ValidateTrajectory(const OdeSystem& ode,
                                     const std::function<Eigen::VectorXd(double)>& claimed,
                                     double t_end, bool stiff, int samples = 2001);
 
+// The same for an implicit DAE F(t, y, y') = 0 (a model with algebraic
+// equations), integrated with IDA (BDF, rtol 1e-14) from claimed(0). IDACalcIC
+// computes y'(0) and corrects the algebraic components of claimed(0) before
+// the first step, so a claimed state off the constraint shows as an error at
+// t = 0 rather than as an integration failure.
+ValidationReport ValidateDaeTrajectory(const DaeSystem& dae,
+                                       const std::function<Eigen::VectorXd(double)>& claimed,
+                                       double t_end, int samples = 2001);
+
 }  // namespace rmhb::integrators
 
 #endif  // RMHB_INTEGRATORS_TRAJECTORY_VALIDATION_H_

@@ -172,7 +172,12 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     return finish(SolverStatus::kInvalidInput,
                   "underdetermined: " + std::to_string(s.num_residuals) + " equations for " +
                       std::to_string(s.num_unknowns) + " unknowns");
-  if (!Finite(*x)) return finish(SolverStatus::kInvalidInput, "initial guess is not finite");
+  // A residual that cannot be evaluated is reported as infinite, never as the
+  // default 0 (which would read as an exact solution).
+  if (!Finite(*x)) {
+    s.initial_residual = s.final_residual = INFINITY;
+    return finish(SolverStatus::kInvalidInput, "initial guess is not finite");
+  }
 
   const SolverMethod method = options.method;
   s.method = method;
@@ -180,8 +185,10 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   Eigen::VectorXd F(s.num_residuals), Ftrial(s.num_residuals), xtrial;
   Eigen::MatrixXd J(s.num_residuals, s.num_unknowns);
   ++s.evaluations;
-  if (!problem.Evaluate(*x, &F, &J) || !Finite(F) || !J.allFinite())
+  if (!problem.Evaluate(*x, &F, &J) || !Finite(F) || !J.allFinite()) {
+    s.initial_residual = s.final_residual = INFINITY;
     return finish(SolverStatus::kFailure, "the initial guess gives non-finite residuals");
+  }
   double norm = MaxAbs(F);
   s.initial_residual = s.final_residual = norm;
   s.residual_history.push_back(norm);

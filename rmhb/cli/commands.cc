@@ -174,11 +174,16 @@ int RunSolve(const SolveArgs& a) {
   }
   json validation;
   if (a.validate && converged) {
-    if (!source.original) throw std::invalid_argument("cannot validate: " + source.original_error);
+    if (!source.original && !source.original_dae)
+      throw std::invalid_argument("cannot validate: " + source.original_error);
     const double period = 2 * M_PI / *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
-    const integrators::ValidationReport v = integrators::ValidateTrajectory(
-        source.original(sol.frequencies()), [&](double t) { return source.state(sol, t); },
-        a.validate_periods * period, source.stiff);
+    auto claimed = [&](double t) { return source.state(sol, t); };
+    const integrators::ValidationReport v =
+        source.original_dae
+            ? integrators::ValidateDaeTrajectory(source.original_dae(sol.frequencies()), claimed,
+                                                 a.validate_periods * period)
+            : integrators::ValidateTrajectory(source.original(sol.frequencies()), claimed,
+                                              a.validate_periods * period, source.stiff);
     validation = {{"status", v.ok ? "ok" : "failed"}, {"max_error", Number(v.max_error)},
                   {"periods", a.validate_periods}, {"t_end", a.validate_periods * period},
                   {"seconds", v.seconds}, {"integrator", v.integrator}, {"message", v.message}};
@@ -239,11 +244,16 @@ int RunSolve(const SolveArgs& a) {
         if (reference.contains("max_error"))
           std::printf("error        max over one period %.3e\n", reference["max_error"].get<double>());
       }
-      if (!validation.is_null())
+      if (!validation.is_null() && validation["max_error"].is_null())
+        std::printf("validation   failed: %s integration did not finish: %s (%.1f ms)\n",
+                    validation["integrator"].get<std::string>().c_str(),
+                    validation["message"].get<std::string>().c_str(),
+                    validation["seconds"].get<double>() * 1e3);
+      else if (!validation.is_null())
         std::printf("validation   %s: max error %.3e over %d (longest) period(s) against %s (%.1f ms)\n",
                     validation["status"].get<std::string>().c_str(),
-                    validation["max_error"].is_null() ? NAN : validation["max_error"].get<double>(),
-                    a.validate_periods, validation["integrator"].get<std::string>().c_str(),
+                    validation["max_error"].get<double>(), a.validate_periods,
+                    validation["integrator"].get<std::string>().c_str(),
                     validation["seconds"].get<double>() * 1e3);
     }
   }

@@ -7,11 +7,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 #include "frequency_id/frequency_identification.h"
 #include "frequency_id/signal_io.h"
 #include "integrators/cvode_integrator.h"
+#include "integrators/ida_integrator.h"
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/problem_source.h"
@@ -25,7 +27,8 @@ using nlohmann::json;
 // The model's own trajectory, sampled uniformly after the transient.
 frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known, double* seconds) {
   const ProblemSource source = LoadProblem(a.model, ParseOverrides(a.set));
-  if (!source.original) throw std::invalid_argument("cannot integrate the model: " + source.original_error);
+  if (!source.original && !source.original_dae)
+    throw std::invalid_argument("cannot integrate the model: " + source.original_error);
   const std::vector<double>& w = source.problem.frequencies;
   for (size_t b = 0; b < w.size(); ++b)
     if (source.problem.unknown_frequency.empty() || !source.problem.unknown_frequency[b]) known->push_back(w[b]);
@@ -56,7 +59,10 @@ frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known,
   io.relative_tolerance = 1e-13;
   io.absolute_tolerance = 1e-15;
   const auto start = std::chrono::steady_clock::now();
-  const integrators::IntegrationResult r = integrators::IntegrateOde(source.original(w), y0, 0.0, times, io);
+  const integrators::IntegrationResult r =
+      source.original_dae ? integrators::IntegrateDae(source.original_dae(w), y0,
+                                                      Eigen::VectorXd::Zero(y0.size()), 0.0, times, io)
+                          : integrators::IntegrateOde(source.original(w), y0, 0.0, times, io);
   *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!r.ok()) throw std::runtime_error("integration failed: " + r.message);
   frequency_id::Signal signal;
@@ -73,8 +79,22 @@ void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
   app->add_option("model", a->model, "Example name or model file to integrate (or use --signal)");
   app->add_option("--signal", a->signal, "CSV file: a time column, then one column per channel");
   app->add_option("--set", a->set, "Override a model parameter: --set name=value");
-  app->add_option("--t-end", a->t_end, "Length of the integrated record (default: from the frequencies)");
-  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth)");
+  // Explicit values must be finite: the defaults are marked by 0 and -1.
+  auto finite_at_least = [](double low, bool strict) {
+    return CLI::Validator(
+        [low, strict](std::string& text) -> std::string {
+          char* end = nullptr;
+          const double v = std::strtod(text.c_str(), &end);
+          const bool ok = end != text.c_str() && *end == '\0' && std::isfinite(v) &&
+                          (strict ? v > low : v >= low);
+          return ok ? "" : "'" + text + "' must be a finite number " + (strict ? "> " : ">= ") + "0";
+        },
+        strict ? "POSITIVE" : "NONNEGATIVE");
+  };
+  app->add_option("--t-end", a->t_end, "Length of the integrated record (default: from the frequencies)")
+      ->check(finite_at_least(0, true));
+  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth)")
+      ->check(finite_at_least(0, false));
   app->add_option("--samples-per-period", a->samples_per_period,
                   "Samples per period of the fastest base (default 32)")
       ->check(CLI::Range(4, 4096));

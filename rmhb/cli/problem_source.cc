@@ -49,12 +49,23 @@ ProblemSource FromFile(const std::string& path, const std::map<std::string, doub
   p.problem = recast->problem;
   p.default_order = p.problem.frequencies.size() == 1 ? 25 : 7;
   p.guess = [recast](int order) { return recast->InitialGuess(order); };
-  if (recast->original) {
+  if (recast->original && recast->original->is_dae()) {
+    p.original_dae = [recast](const std::vector<double>& w) {
+      model::OriginalSystem bound = *recast->original;
+      bound.BindFrequencies(w);
+      return integrators::DaeSystem{bound.dimension, bound.residual, bound.differential};
+    };
+    // For commands that only integrate ODEs (they test `original`).
+    p.original_error = "the original equations are a DAE (a variable appears without derivatives); "
+                       "only IDA integrates them";
+  } else if (recast->original) {
     p.original = [recast](const std::vector<double>& w) {
       model::OriginalSystem bound = *recast->original;
       bound.BindFrequencies(w);
       return integrators::OdeSystem{bound.dimension, bound.rhs};
     };
+  }
+  if (recast->original) {
     p.state = [recast](const HarmonicSolution& s, double t) {
       const std::vector<double> v = recast->original->StateFromSolution(s, t);
       return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<long>(v.size())).eval();

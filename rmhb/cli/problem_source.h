@@ -33,6 +33,9 @@ struct ProblemSource {
   // The original equations with the base frequencies bound to `w` (forcing
   // terms need the solved values), and the state a solution predicts.
   std::function<integrators::OdeSystem(const std::vector<double>& w)> original;
+  // Set instead of `original` for a model with algebraic equations: the DAE
+  // F(t, y, y') = 0 for IDA.
+  std::function<integrators::DaeSystem(const std::vector<double>& w)> original_dae;
   std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
   std::vector<std::string> state_names;
   bool stiff = false;

@@ -79,7 +79,8 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
   app->add_option("--set", a->set, "Override a parameter: --set name=value (repeatable)");
   app->add_option("--order,-N,--p", a->order,
                   "Harmonic order: N for one base frequency, p (|m|+|n| <= p) for several "
-                  "(default: the model's)");
+                  "(default: the model's)")
+      ->each([a](const std::string&) { a->order_given = true; });
   app->add_option("--frequencies", a->frequencies,
                   "Base frequencies w1[,w2]: values of known ones, guesses of unknown ones; "
                   "prefix ? to make one unknown (e.g. 2.3,?0.95)");
@@ -93,7 +94,8 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
       ->each([a](const std::string&) { a->shape_given = true; });
   app->add_option("--samples,-M", a->samples,
                   "Collocation samples M (default: by --method; below the alias-free bound "
-                  "needs --allow-aliasing)");
+                  "needs --allow-aliasing)")
+      ->each([a](const std::string&) { a->samples_given = true; });
   app->add_option("--method", a->method,
                   "rhb (alias-free M, default), hdhb (M = 2N+1, aliases), aft (M = 2^k >= 2 phi N+1)")
       ->check(CLI::IsMember({"rhb", "hdhb", "aft"}));
@@ -104,6 +106,8 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
   app->add_option("--max-iterations", a->max_iterations, "Nonlinear solver iteration limit (default 100)")
       ->check(CLI::Range(1, 100000));
   app->add_flag("--allow-aliasing", a->allow_aliasing, "Accept M below the alias-free bound");
+  app->add_option("--tolerance", a->tolerance,
+                  "Converged when max|F| <= this (default 1e-15; finite and > 0)");
 }
 
 ProblemSource LoadSolveProblem(const SolveSettings& a, const std::map<std::string, double>& overrides) {
@@ -115,9 +119,11 @@ ProblemSource LoadSolveProblem(const SolveSettings& a, const std::map<std::strin
 }
 
 PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, double>& overrides) {
-  if (a.order != -1 && a.order < 1)
+  if ((a.order_given || a.order != -1) && a.order < 1)
     throw std::invalid_argument("--order must be >= 1 (got " + std::to_string(a.order) + ")");
-  if (a.samples != -1 && a.samples < 1)
+  if (!(a.tolerance > 0) || !std::isfinite(a.tolerance))
+    throw std::invalid_argument("--tolerance must be finite and > 0 (got " + std::to_string(a.tolerance) + ")");
+  if ((a.samples_given || a.samples != -1) && a.samples < 1)
     throw std::invalid_argument("--samples must be >= 1 (got " + std::to_string(a.samples) + ")");
   ProblemSource source = LoadSolveProblem(a, overrides);
   HarmonicBalanceProblem& problem = source.problem;
@@ -130,6 +136,7 @@ PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, d
   options.allow_aliasing = a.allow_aliasing;
   options.solver.method = ParseSolverMethod(a.solver);
   options.solver.max_iterations = a.max_iterations;
+  options.solver.residual_tolerance = a.tolerance;
   options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;
   options.quasi_periodic_sampling =
       a.sampling == "gcd" ? QuasiPeriodicSampling::kGcd : QuasiPeriodicSampling::kTorus;

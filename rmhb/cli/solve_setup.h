@@ -27,6 +27,8 @@ struct SolveSettings {
   std::vector<std::string> set;  // name=value
   int order = -1;                // -1: the model's default
   int samples = -1;              // -1: by the method's rule
+  bool order_given = false, samples_given = false;  // so that an explicit -1 is refused
+  double tolerance = 1e-15;      // max|F| at convergence
   std::string method = "rhb";
   std::string solver = "auto";
   int max_iterations = 100;

@@ -1,5 +1,6 @@
 #include "rmhb/model/original_system.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -74,6 +75,37 @@ std::function<void(double, const double*, double*)> MakeRhs(
   };
 }
 
+// F(t, y, y') of a model with algebraic variables: the chains, then the
+// equations with the highest derivatives taken from y'.
+std::function<void(double, const double*, const double*, double*)> MakeResidual(
+    std::shared_ptr<const CompiledFunction> tape, std::vector<int> orders,
+    std::vector<double> frequencies) {
+  int n = 0, num_highest = 0;
+  for (int o : orders) {
+    n += std::max(o, 1);
+    num_highest += o > 0;
+  }
+  const std::size_t num_in = 1 + n + num_highest + frequencies.size();
+  return [tape, orders, frequencies, n, num_in](double t, const double* y, const double* yp,
+                                                double* residual) {
+    thread_local std::vector<double> in, out, work;
+    if (in.size() < num_in) in.resize(num_in);
+    if (out.size() < orders.size()) out.resize(orders.size());
+    in[0] = t;
+    for (int i = 0; i < n; ++i) in[1 + i] = y[i];
+    std::size_t k = 1 + n;
+    int p = 0, row = 0;
+    for (int o : orders) {
+      if (o > 0) in[k++] = yp[p + o - 1];
+      for (int j = 0; j + 1 < o; ++j) residual[row++] = yp[p + j] - y[p + j + 1];
+      p += std::max(o, 1);
+    }
+    for (double w : frequencies) in[k++] = w;
+    tape->Evaluate(in.data(), out.data(), &work);
+    for (std::size_t i = 0; i < orders.size(); ++i) residual[row + i] = out[i];
+  };
+}
+
 }  // namespace
 
 std::vector<double> OriginalSystem::StateFromSolution(const HarmonicSolution& solution,
@@ -91,7 +123,8 @@ void OriginalSystem::BindFrequencies(const std::vector<double>& w) {
   if (w.size() != frequencies.size())
     throw std::invalid_argument("OriginalSystem::BindFrequencies: one value per base expected");
   frequencies = w;
-  rhs = MakeRhs(mass_and_rhs, orders, frequencies);
+  if (is_dae()) residual = MakeResidual(equations, orders, frequencies);
+  else rhs = MakeRhs(mass_and_rhs, orders, frequencies);
 }
 
 OriginalSystem BuildOriginalSystem(const ModelDefinition& model, const ParameterValues& overrides,
@@ -109,20 +142,44 @@ OriginalSystem BuildOriginalSystem(const ModelDefinition& model, const Parameter
   sys.orders = model.orders;
   std::vector<ex> inputs{s.t};
   std::vector<ex> highest;
+  bool any_differential = false;
   for (int v = 0; v < m; ++v) {
     const int order = model.orders[v];
-    if (order == 0)
-      throw ModelError("variable '" + model.variables[v] +
-                           "' appears without derivatives (an algebraic equation): the "
-                           "integrators need an explicit ODE",
-                       {model.source, 0, 0}, model.variables[v]);
-    for (int j = 0; j < order; ++j) {
+    any_differential = any_differential || order > 0;
+    for (int j = 0; j < std::max(order, 1); ++j) {
       inputs.push_back(s.derivatives[v][j]);
       sys.state_names.push_back(model.variables[v] + std::string(j, '\''));
+      sys.differential.push_back(order > 0);
     }
-    highest.push_back(s.derivatives[v][order]);
+    if (order > 0) highest.push_back(s.derivatives[v][order]);
   }
   sys.dimension = static_cast<int>(sys.state_names.size());
+  if (!any_differential)
+    throw ModelError("no variable has a derivative: the equations are purely algebraic",
+                     {model.source, 0, 0});
+  if (static_cast<int>(highest.size()) < m) {
+    // Algebraic variables: the DAE as written, for IDA.
+    inputs.insert(inputs.end(), highest.begin(), highest.end());
+    for (const auto& b : s.bases) inputs.push_back(b);
+    std::vector<ex> residuals;
+    for (int i = 0; i < m; ++i) {
+      try {
+        residuals.push_back(s.equations[i].subs(params, GiNaC::subs_options::no_pattern));
+      } catch (const std::exception& err) {
+        throw ModelError(std::string("cannot build the original system: ") + err.what() +
+                             " in equation " + std::to_string(i + 1),
+                         model.equations[i].where);
+      }
+    }
+    try {
+      sys.equations = std::make_shared<const CompiledFunction>(internal::Compile(residuals, inputs));
+    } catch (const std::exception& err) {
+      throw ModelError(std::string("cannot compile the original equations: ") + err.what(),
+                       {model.source, 0, 0});
+    }
+    sys.residual = MakeResidual(sys.equations, sys.orders, sys.frequencies);
+    return sys;
+  }
   for (const auto& b : s.bases) inputs.push_back(b);
 
   std::vector<ex> mass, rhs;

@@ -25,6 +25,16 @@
 // If M is singular at a state, rhs fills ydot with NaN (the integrator then
 // reports the failure). rhs is thread-safe (per-thread work buffers) and
 // allocation-free after its first call in a thread.
+//
+// A model with an algebraic equation (a variable that appears without
+// derivatives: `y - x^2 = 0`, `z*(1 + x^2) = 1`) is no explicit ODE; it is
+// kept as the implicit DAE F(t, y, y') = 0 for SUNDIALS IDA
+// (integrators::IntegrateDae, which makes the initial values consistent with
+// IDACalcIC): the states are those above plus each algebraic variable, the
+// residual is the chains x' - x_d1 = 0, ... then the equations as written,
+// with each highest derivative read from y'. Then `residual` is set and
+// `rhs` is empty; IDA needs index 1 (the algebraic equations solvable for
+// the algebraic variables), and reports a failure otherwise.
 
 #include <functional>
 #include <memory>
@@ -51,6 +61,10 @@ struct OriginalSystem {
   // guesses for unknown ones until BindFrequencies is called with solved ones).
   std::vector<double> frequencies;
   std::function<void(double t, const double* y, double* ydot)> rhs;
+  // Set instead of rhs when the model has algebraic variables (see above).
+  std::function<void(double t, const double* y, const double* yp, double* residual)> residual;
+  std::vector<bool> differential;  // per state; false for algebraic variables
+  bool is_dae() const { return static_cast<bool>(residual); }
   // One per state; filled by Recast (empty when built alone).
   std::vector<StateSource> sources;
 
@@ -62,13 +76,17 @@ struct OriginalSystem {
   // The compiled evaluator rhs uses: inputs (t, y, frequencies), outputs
   // the mass matrix M (row-major) then b.
   std::shared_ptr<const CompiledFunction> mass_and_rhs;  // outputs: M (row-major), then b
-  std::vector<int> orders;  // order of each user variable
+  // DAE: inputs (t, y, the highest derivatives of the differential
+  // variables, frequencies), outputs the equations' residuals.
+  std::shared_ptr<const CompiledFunction> equations;
+  std::vector<int> orders;  // order of each user variable (0: algebraic)
 };
 
 // Builds the first-order system of the model's equations with the parameter
 // overrides applied and the base frequencies bound to `frequencies` (one per
-// base). Throws ModelError when the model is not an explicit ODE in its
-// highest derivatives (an algebraic variable, a nonlinear highest derivative).
+// base). Throws ModelError when the model is neither an explicit ODE in its
+// highest derivatives (they appear nonlinearly) nor a DAE (no variable has a
+// derivative).
 OriginalSystem BuildOriginalSystem(const ModelDefinition& model, const ParameterValues& overrides,
                                    const std::vector<double>& frequencies);
 

@@ -175,7 +175,8 @@ class Recaster {
     try {
       OriginalSystem original = BuildOriginalSystem(model_, values_, bases_.values);
       for (std::size_t v = 0; v < chain_.size(); ++v)
-        for (int j = 0; j < model_.orders[v]; ++j) original.sources.push_back({chain_index[v][j], 0});
+        for (int j = 0; j < std::max(model_.orders[v], 1); ++j)
+          original.sources.push_back({chain_index[v][j], 0});
       result.original = std::move(original);
     } catch (const ModelError& e) {
       result.original_error = e.what();
@@ -701,7 +702,7 @@ class Recaster {
     std::vector<bool> set(original.dimension, false);
     auto position = [&](int v, int j) {
       int p = 0;
-      for (int u = 0; u < v; ++u) p += model_.orders[u];
+      for (int u = 0; u < v; ++u) p += std::max(model_.orders[u], 1);
       return p + j;
     };
     if (!s_.initial_state.empty()) {
@@ -717,8 +718,9 @@ class Recaster {
         state[position(vj.first, vj.second)] = x;
         set[position(vj.first, vj.second)] = true;
       }
+      // Algebraic states may be left out: IDACalcIC computes them.
       for (int i = 0; i < original.dimension; ++i)
-        if (!set[i])
+        if (!set[i] && original.differential[i])
           throw ModelError("initial_state does not give '" + original.state_names[i] + "'",
                            model_.initial_state.front().second.where, original.state_names[i]);
       return state;
@@ -727,7 +729,7 @@ class Recaster {
     for (const ex& c : s_.conditions) {
       const ex r = Substituted(c).subs(bases_.KnownValues());
       for (std::size_t v = 0; v < chain_.size(); ++v)
-        for (int j = 0; j < model_.orders[v]; ++j) {
+        for (int j = 0; j < std::max(model_.orders[v], 1); ++j) {
           const ex& sym = s_.derivatives[v][j];
           if (!r.has(sym)) continue;
           const ex coefficient = r.diff(GiNaC::ex_to<GiNaC::symbol>(sym));
@@ -740,8 +742,8 @@ class Recaster {
           }
         }
     }
-    for (bool b : set)
-      if (!b) return std::nullopt;
+    for (int i = 0; i < original.dimension; ++i)
+      if (!set[i] && original.differential[i]) return std::nullopt;
     return state;
   }
 

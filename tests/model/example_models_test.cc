@@ -57,7 +57,8 @@ TEST(ExampleModels, AllParseAndRecastWithTheExpectedDegree) {
   // phi = 4 (recast_test.cc checks that form too).
   const std::vector<std::pair<std::string, int>> expected = {
       {"pendulum", 2},         {"relativistic", 4},     {"duffing", 3},      {"vanderpol", 3},
-      {"forced-vanderpol", 3}, {"rayleigh-plesset", 3}, {"asym-pendulum", 3}};
+      {"forced-vanderpol", 3}, {"rayleigh-plesset", 3}, {"asym-pendulum", 3},
+      {"softening-dae", 3}};
   for (const auto& [name, degree] : expected) {
     SCOPED_TRACE(name);
     const ModelDefinition m = LoadModelFile(ExamplePath(name));

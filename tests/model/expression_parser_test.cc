@@ -96,6 +96,9 @@ TEST_F(ExpressionParserTest, HostileInputIsBoundedBeforeGinac) {
   EXPECT_EQ(Error("10^10^10"), "3: exponent 10000000000 too large (at most 64 in magnitude)");
   EXPECT_EQ(Error("x^(2*500)"), "3: exponent 1000 too large (at most 64 in magnitude)");
   EXPECT_EQ(Error("1e300^64"), "0: number out of range (beyond 1e308)");
+  const std::string digits = Error("((((2/3)^64)^64)^64)^64");
+  EXPECT_EQ(digits.substr(0, 10), "4: number ");
+  EXPECT_NE(digits.find("has too many digits"), std::string::npos) << digits;
   EXPECT_EQ(Error(std::string(300, '(') + "x" + std::string(300, ')')),
             "200: expression nested too deeply");
   std::string signs;

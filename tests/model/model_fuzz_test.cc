@@ -21,7 +21,7 @@ namespace {
 std::vector<std::string> Seeds() {
   std::vector<std::string> seeds;
   for (const char* name : {"pendulum", "relativistic", "duffing", "vanderpol", "forced-vanderpol",
-                           "rayleigh-plesset", "asym-pendulum"}) {
+                           "rayleigh-plesset", "asym-pendulum", "softening-dae"}) {
     std::ifstream in(std::string(RMHB_SOURCE_DIR) + "/examples/models/" + name + ".yaml");
     std::ostringstream text;
     text << in.rdbuf();

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <set>
+#include <stdexcept>
 
 #include "rmhb/model/internal/compile.h"
 #include "rmhb/model/internal/exact_numbers.h"
@@ -27,29 +29,50 @@ struct FunctionEntry {
   GiNaC::reader_func read;
 };
 
+// GiNaC's parser reads a prototype whose address is odd as the serial number
+// of a GiNaC function (its parser.cpp "KLUDGE"), so the readers are aligned
+// explicitly: without optimisation GCC does not align functions.
+[[gnu::aligned(16)]] ex ReadSin(const exvector& a) { return GiNaC::sin(a[0]); }
+[[gnu::aligned(16)]] ex ReadCos(const exvector& a) { return GiNaC::cos(a[0]); }
+[[gnu::aligned(16)]] ex ReadTan(const exvector& a) { return GiNaC::tan(a[0]); }
+[[gnu::aligned(16)]] ex ReadExp(const exvector& a) { return GiNaC::exp(a[0]); }
+[[gnu::aligned(16)]] ex ReadLog(const exvector& a) { return GiNaC::log(a[0]); }
+[[gnu::aligned(16)]] ex ReadLogBase(const exvector& a) { return GiNaC::log(a[0]) / GiNaC::log(a[1]); }
+[[gnu::aligned(16)]] ex ReadLog10(const exvector& a) { return GiNaC::log(a[0]) / GiNaC::log(ex(10)); }
+[[gnu::aligned(16)]] ex ReadLog2(const exvector& a) { return GiNaC::log(a[0]) / GiNaC::log(ex(2)); }
+[[gnu::aligned(16)]] ex ReadSqrt(const exvector& a) { return GiNaC::pow(a[0], numeric(1, 2)); }
+[[gnu::aligned(16)]] ex ReadCbrt(const exvector& a) { return GiNaC::pow(a[0], numeric(1, 3)); }
+[[gnu::aligned(16)]] ex ReadPow(const exvector& a) { return GiNaC::pow(a[0], a[1]); }
+[[gnu::aligned(16)]] ex ReadAsin(const exvector& a) { return GiNaC::asin(a[0]); }
+[[gnu::aligned(16)]] ex ReadAcos(const exvector& a) { return GiNaC::acos(a[0]); }
+[[gnu::aligned(16)]] ex ReadAtan(const exvector& a) { return GiNaC::atan(a[0]); }
+[[gnu::aligned(16)]] ex ReadSinh(const exvector& a) { return GiNaC::sinh(a[0]); }
+[[gnu::aligned(16)]] ex ReadCosh(const exvector& a) { return GiNaC::cosh(a[0]); }
+[[gnu::aligned(16)]] ex ReadTanh(const exvector& a) { return GiNaC::tanh(a[0]); }
+
 const std::vector<FunctionEntry>& Functions() {
   static const std::vector<FunctionEntry> table = {
-      {"sin", 1, [](const exvector& a) -> ex { return GiNaC::sin(a[0]); }},
-      {"cos", 1, [](const exvector& a) -> ex { return GiNaC::cos(a[0]); }},
-      {"tan", 1, [](const exvector& a) -> ex { return GiNaC::tan(a[0]); }},
-      {"exp", 1, [](const exvector& a) -> ex { return GiNaC::exp(a[0]); }},
-      {"log", 1, [](const exvector& a) -> ex { return GiNaC::log(a[0]); }},
-      {"log", 2, [](const exvector& a) -> ex { return GiNaC::log(a[0]) / GiNaC::log(a[1]); }},
-      {"ln", 1, [](const exvector& a) -> ex { return GiNaC::log(a[0]); }},
-      {"log10", 1, [](const exvector& a) -> ex { return GiNaC::log(a[0]) / GiNaC::log(ex(10)); }},
-      {"log2", 1, [](const exvector& a) -> ex { return GiNaC::log(a[0]) / GiNaC::log(ex(2)); }},
-      {"sqrt", 1, [](const exvector& a) -> ex { return GiNaC::pow(a[0], numeric(1, 2)); }},
-      {"cbrt", 1, [](const exvector& a) -> ex { return GiNaC::pow(a[0], numeric(1, 3)); }},
-      {"pow", 2, [](const exvector& a) -> ex { return GiNaC::pow(a[0], a[1]); }},
-      {"asin", 1, [](const exvector& a) -> ex { return GiNaC::asin(a[0]); }},
-      {"acos", 1, [](const exvector& a) -> ex { return GiNaC::acos(a[0]); }},
-      {"atan", 1, [](const exvector& a) -> ex { return GiNaC::atan(a[0]); }},
-      {"arcsin", 1, [](const exvector& a) -> ex { return GiNaC::asin(a[0]); }},
-      {"arccos", 1, [](const exvector& a) -> ex { return GiNaC::acos(a[0]); }},
-      {"arctan", 1, [](const exvector& a) -> ex { return GiNaC::atan(a[0]); }},
-      {"sinh", 1, [](const exvector& a) -> ex { return GiNaC::sinh(a[0]); }},
-      {"cosh", 1, [](const exvector& a) -> ex { return GiNaC::cosh(a[0]); }},
-      {"tanh", 1, [](const exvector& a) -> ex { return GiNaC::tanh(a[0]); }}};
+      {"sin", 1, ReadSin},
+      {"cos", 1, ReadCos},
+      {"tan", 1, ReadTan},
+      {"exp", 1, ReadExp},
+      {"log", 1, ReadLog},
+      {"log", 2, ReadLogBase},
+      {"ln", 1, ReadLog},
+      {"log10", 1, ReadLog10},
+      {"log2", 1, ReadLog2},
+      {"sqrt", 1, ReadSqrt},
+      {"cbrt", 1, ReadCbrt},
+      {"pow", 2, ReadPow},
+      {"asin", 1, ReadAsin},
+      {"acos", 1, ReadAcos},
+      {"atan", 1, ReadAtan},
+      {"arcsin", 1, ReadAsin},
+      {"arccos", 1, ReadAcos},
+      {"arctan", 1, ReadAtan},
+      {"sinh", 1, ReadSinh},
+      {"cosh", 1, ReadCosh},
+      {"tanh", 1, ReadTanh}};
   return table;
 }
 
@@ -68,7 +91,11 @@ const std::set<std::string>& NonSmoothFunctions() {
 const GiNaC::prototype_table& Prototypes() {
   static const GiNaC::prototype_table table = [] {
     GiNaC::prototype_table t;
-    for (const FunctionEntry& f : Functions()) t[{f.name, f.arity}] = f.read;
+    for (const FunctionEntry& f : Functions()) {
+      if (reinterpret_cast<std::uintptr_t>(f.read) & 1)
+        throw std::logic_error("GiNaC parser reader at an odd address");
+      t[{f.name, f.arity}] = f.read;
+    }
     return t;
   }();
   return table;
@@ -519,6 +546,11 @@ class Translator {
     // fit a double anyway); tiny ones are harmless.
     static const numeric big = numeric(10).power(308);
     if (GiNaC::abs(n) > big) throw ParseError{Where(node), "number out of range (beyond 1e308)", ""};
+    // A small value may still be a huge fraction: ((2/3)^64)^64 has 2000
+    // digits, and two more powers would not finish.
+    static const numeric digits = numeric(2).power(4096);
+    if (GiNaC::abs(n.numer()) > digits || n.denom() > digits)
+      throw ParseError{Where(node), "number " + Str(value).substr(0, 20) + "... has too many digits", ""};
   }
 
   // Offset of the leftmost number in a (not yet substituted) node; the start
