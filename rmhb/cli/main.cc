@@ -11,6 +11,8 @@
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/identify_command.h"
+#include "rmhb/cli/simulate_command.h"
+#include "rmhb/cli/convergence_command.h"
 #include "rmhb/model/model_error.h"
 
 int main(int argc, char** argv) {
@@ -43,6 +45,18 @@ int main(int argc, char** argv) {
                   "sampled signal (--signal FILE.csv) or from a model's integrated trajectory.");
   AddIdentifyOptions(identify_cmd, &identify);
 
+  SimulateArgs simulate;
+  CLI::App* simulate_cmd = app.add_subcommand(
+      "simulate", "Integrate the ORIGINAL equations with SUNDIALS CVODE from the model's initial\n"
+                  "state; write t and every state as CSV.");
+  AddSimulateOptions(simulate_cmd, &simulate);
+
+  ConvergenceArgs convergence;
+  CLI::App* convergence_cmd = app.add_subcommand(
+      "convergence", "Error against run time for each order: RHB, HDHB and HB-AFT side by side,\n"
+                     "and for non-polynomial models RHB-Taylor and HB-AFT on the original equations.");
+  AddConvergenceOptions(convergence_cmd, &convergence);
+
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;
   list_cmd->add_flag("--json", list_json, "Machine-readable output");
@@ -64,6 +78,8 @@ int main(int argc, char** argv) {
     if (*list_cmd) return RunList(list_json);
     if (*recast_cmd) return RunRecast(recast);
     if (*identify_cmd) return RunIdentify(identify);
+    if (*simulate_cmd) return RunSimulate(simulate);
+    if (*convergence_cmd) return RunConvergence(convergence);
   } catch (const rmhb::model::ModelError& e) {
     std::fprintf(stderr, "rmhb: error: %s\n", e.what());
     return kExitBadInput;
