@@ -268,6 +268,7 @@ void AddConvergenceOptions(CLI::App* app, ConvergenceArgs* a) {
 
 int RunConvergence(const ConvergenceArgs& a) {
   const std::vector<int> orders = ParseOrders(a.orders);
+  if (!a.plot.empty()) CheckPlotRequest(a.plot);
   SolveSettings settings = a.settings;
   settings.order = orders[0];
   PreparedSolve prepared = PrepareSolve(settings);

@@ -123,11 +123,15 @@ std::string FindGnuplot() {
   return "";
 }
 
-void WritePlot(const Plot& plot, const std::string& file) {
+void CheckPlotRequest(const std::string& file) {
   if (!EndsWith(file, ".png") && !EndsWith(file, ".svg"))
     throw std::invalid_argument("--plot: '" + file + "' must end in .png or .svg");
+  if (FindGnuplot().empty()) throw std::invalid_argument("gnuplot not found: install gnuplot-nox (--plot " + file + ")");
+}
+
+void WritePlot(const Plot& plot, const std::string& file) {
+  CheckPlotRequest(file);
   const std::string gnuplot = FindGnuplot();
-  if (gnuplot.empty()) throw std::invalid_argument("gnuplot not found: install gnuplot-nox (--plot " + file + ")");
   TempDir dir;
   const std::string script = dir.path + "/plot.gp", log = dir.path + "/gnuplot.log";
   std::ofstream(script) << Script(plot, file, dir.path);

@@ -35,6 +35,10 @@ struct Plot {
 // Where gnuplot is on PATH ("" if not found).
 std::string FindGnuplot();
 
+// Checks a --plot request before any work is done: the extension and that
+// gnuplot is there. Throws std::invalid_argument as WritePlot does.
+void CheckPlotRequest(const std::string& file);
+
 // Draws `plot` into `file`, PNG or SVG by its extension. Throws
 // std::invalid_argument when the extension is neither, when gnuplot is not
 // found ("gnuplot not found: install gnuplot-nox") or when it fails (with

@@ -38,9 +38,10 @@ void WriteCsv(std::ostream& out, const std::vector<std::string>& names, const in
 void AddSimulateOptions(CLI::App* app, SimulateArgs* a) {
   app->add_option("model", a->model, "Example name (see `rmhb list`) or model file")->required();
   app->add_option("--set", a->set, "Override a parameter: --set name=value (repeatable)");
-  app->add_option("--t-end", a->t_end,
-                  "End time (default: 20 periods of the slowest base frequency)");
-  app->add_option("--dt", a->dt, "Output spacing (default: 1/64 of the fastest period)");
+  app->add_option("--t-end", a->t_end, "End time (default: 20 periods of the slowest base frequency)")
+      ->each([a](const std::string&) { a->t_end_given = true; });
+  app->add_option("--dt", a->dt, "Output spacing (default: 1/64 of the fastest period)")
+      ->each([a](const std::string&) { a->dt_given = true; });
   app->add_option("--rtol", a->rtol, "Relative tolerance of CVODE (default 1e-12)");
   app->add_option("--atol", a->atol, "Absolute tolerance of CVODE (default 1e-14)");
   app->add_option("--integrator", a->integrator,
@@ -60,12 +61,13 @@ void AddSimulateOptions(CLI::App* app, SimulateArgs* a) {
 int RunSimulate(const SimulateArgs& a) {
   const ProblemSource source = LoadProblem(a.model, ParseOverrides(a.set));
   if (!source.original) throw std::invalid_argument("cannot integrate the model: " + source.original_error);
+  if (!a.plot.empty()) CheckPlotRequest(a.plot);
   if (a.json && a.csv.empty()) throw std::invalid_argument("--json needs --csv FILE for the trajectory");
   const std::vector<double>& w = source.problem.frequencies;
   const double w_min = *std::min_element(w.begin(), w.end());
   const double w_max = *std::max_element(w.begin(), w.end());
-  const double t_end = a.t_end != 0 ? a.t_end : 20 * 2 * M_PI / w_min;
-  const double dt = a.dt != 0 ? a.dt : 2 * M_PI / w_max / 64;
+  const double t_end = a.t_end_given ? a.t_end : 20 * 2 * M_PI / w_min;
+  const double dt = a.dt_given ? a.dt : 2 * M_PI / w_max / 64;
   if (!(t_end > 0) || !std::isfinite(t_end)) throw std::invalid_argument("--t-end must be a finite number > 0");
   if (!(dt > 0) || !std::isfinite(dt)) throw std::invalid_argument("--dt must be a finite number > 0");
   if (!(a.rtol > 0) || !(a.atol > 0) || !std::isfinite(a.rtol) || !std::isfinite(a.atol))

@@ -18,8 +18,9 @@ namespace rmhb::cli {
 struct SimulateArgs {
   std::string model;
   std::vector<std::string> set;
-  double t_end = 0;  // 0: 20 periods of the slowest base frequency
-  double dt = 0;     // 0: a 64th of the fastest period
+  double t_end = 0;  // unless given: 20 periods of the slowest base frequency
+  double dt = 0;     // unless given: a 64th of the fastest period
+  bool t_end_given = false, dt_given = false;
   double rtol = 1e-12;
   double atol = 1e-14;
   std::string integrator = "auto";  // auto, adams, bdf
