@@ -51,8 +51,8 @@ std::map<std::string, double> ParseOverrides(const std::vector<std::string>& ass
 
 void AddSolveOptions(CLI::App* app, SolveArgs* a) {
   AddSolveSettings(app, &a->settings);
-  app->add_option("--eval", a->eval, "Evaluate the solution at t0:dt:t1 (with --csv)");
-  app->add_option("--csv", a->csv, "CSV file for --eval: t and every variable");
+  app->add_option("--eval", a->eval, "Evaluate the solution at t0:dt:t1 (needs --csv)");
+  app->add_option("--csv", a->csv, "CSV file for --eval: t and every variable, auxiliaries included");
   app->add_flag("--validate", a->validate,
                 "Integrate the original equations with SUNDIALS from the solution's initial "
                 "state and report the maximum error");
@@ -145,9 +145,14 @@ int RunList(bool as_json) {
 }
 
 void AddRecastOptions(CLI::App* app, RecastArgs* a) {
-  app->add_option("model", a->model, "Example name or model file")->required();
+  app->add_option("model", a->model, "Example name (see `rmhb list`) or model file (examples/models/*.yaml)")
+      ->required();
   app->add_option("--set", a->set, "Override a parameter: --set name=value (repeatable)");
-  app->add_flag("--json", a->json, "Machine-readable output");
+  app->add_flag("--json", a->json,
+                "Machine-readable output: model, equation, degree, variables (name, role, definition), "
+                "equations (with balance_constant), conditions, frequencies");
+  app->footer("Exit codes: 0 ok, 1 usage, 2 bad input (unknown example or parameter, model file error\n"
+              "with file:line:column), 4 internal.");
 }
 
 int RunRecast(const RecastArgs& a) {

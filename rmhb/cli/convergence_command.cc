@@ -232,7 +232,7 @@ void AddConvergenceOptions(CLI::App* app, ConvergenceArgs* a) {
   AddSolveSettings(app, &a->settings);
   // Per-solve choices become lists here: one column per method, solver and
   // condition scheme, one row per order.
-  for (const char* name : {"--order", "--samples", "--method", "--solver"}) app->remove_option(app->get_option(name));
+  for (const char* name : {"--order", "--samples", "--method", "--solver", "--allow-aliasing"}) app->remove_option(app->get_option(name));
   app->add_option("--orders,--p", a->orders,
                   "Orders to solve: start:stop:step, start:stop or a list 5,10,25 (N for one base "
                   "frequency, p for two; default 5:25:5)");

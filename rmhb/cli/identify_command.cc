@@ -113,9 +113,11 @@ void PlotSpectrum(const frequency_id::Signal& signal, const frequency_id::Identi
 void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
   app->add_option("model", a->model, "Example name or model file to integrate (or use --signal)");
   app->add_option("--signal", a->signal, "CSV file: a time column, then one column per channel");
-  app->add_option("--set", a->set, "Override a model parameter: --set name=value");
-  app->add_option("--t-end", a->t_end, "Length of the integrated record (default: from the frequencies)");
-  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth)");
+  app->add_option("--set", a->set, "Override a model parameter: --set name=value (repeatable)");
+  app->add_option("--t-end", a->t_end,
+                  "Length of the integrated record (default: 300 periods of the slowest base, and at "
+                  "least 20 beat periods of two close bases)");
+  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth of --t-end)");
   app->add_option("--samples-per-period", a->samples_per_period,
                   "Samples per period of the fastest base (default 32)")
       ->check(CLI::Range(4, 4096));

@@ -21,7 +21,9 @@ int main(int argc, char** argv) {
       "rmhb: periodic and quasi-periodic steady states of nonlinear dynamical systems by\n"
       "reconstruction harmonic balance (RHB), to machine precision.\n\n"
       "Exit codes: 0 ok, 1 usage error, 2 bad input (unknown model or parameter, invalid\n"
-      "value), 3 the solver did not converge (the residual reached is reported), 4 internal."};
+      "value, gnuplot missing for --plot), 3 the solver did not converge (the residual\n"
+      "reached is reported) or an integration stopped early, 4 internal.\n"
+      "`rmhb <command> --help` describes each command, its options and defaults."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "rmhb 0.1.0");
 
@@ -59,7 +61,8 @@ int main(int argc, char** argv) {
 
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;
-  list_cmd->add_flag("--json", list_json, "Machine-readable output");
+  list_cmd->add_flag("--json", list_json, "Machine-readable output: name, description, equation, parameters");
+  list_cmd->footer("Exit codes: 0 ok, 1 usage.");
 
   try {
     app.parse(argc, argv);
