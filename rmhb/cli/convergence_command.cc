@@ -250,6 +250,10 @@ void AddConvergenceOptions(CLI::App* app, ConvergenceArgs* a) {
                   "amplitude), scheme2 (auxiliaries pinned + amplitude), scheme3 (pinned + phase)");
   app->add_option("--taylor", a->taylor_order, "Taylor order of the taylor column (default 15)")
       ->check(CLI::Range(1, 60));
+  app->add_option("--original-samples", a->original_samples,
+                  "Samples M of the original column (default 0: the recast system's HB-AFT count "
+                  "2^k >= 2 phi N + 1; the paper used 1024)")
+      ->check(CLI::Range(0, 1 << 22));
   app->add_option("--repeat", a->repeat, "Solve each cell this many times; report the fastest (default 1)")
       ->check(CLI::Range(1, 1000));
   app->add_option("--max-seconds", a->max_seconds, "Time budget of each solve in seconds (default 60)")
@@ -397,11 +401,13 @@ int RunConvergence(const ConvergenceArgs& a) {
             PointwiseCollocationOptions po;
             po.solver = options.solver;
             const PolynomialSystem& system = default_problem.system;
-            col.solve = [ode, po, guess_at, &source, &system](int order) {
+            const int fixed_samples = a.original_samples;
+            col.solve = [ode, po, guess_at, &source, &system, fixed_samples](int order) {
               PointwiseCollocationOptions o = po;
               o.order = order;
-              // The HB-AFT count of the recast system at this order (a power of two).
-              o.samples = SamplesForRule(system, HarmonicBasis::Periodic(order), SamplingRule::kAft)[0];
+              // By default the HB-AFT count of the recast system at this order (a power of two).
+              o.samples = fixed_samples > 0 ? fixed_samples
+                                            : SamplesForRule(system, HarmonicBasis::Periodic(order), SamplingRule::kAft)[0];
               const HarmonicSolution recast_guess = guess_at(order);
               const double w = recast_guess.frequencies()[0];
               std::vector<Variable> states;
@@ -475,12 +481,19 @@ int RunConvergence(const ConvergenceArgs& a) {
       for (const auto& col : columns) std::printf(" | %s", CellText(col.cells[i]).c_str());
       std::printf("\n");
     }
-    for (const auto& col : columns)
+    for (const auto& col : columns) {
       if (!col.unavailable.empty()) std::printf("%s: not run: %s\n", col.name.c_str(), col.unavailable.c_str());
+      for (size_t i = 0; i < col.cells.size(); ++i)
+        if (col.cells[i].status == "refused") {
+          std::printf("%s, order %d: refused: %s\n", col.name.c_str(), orders[i], col.cells[i].message.c_str());
+          break;
+        }
+    }
     if (taylor) std::printf("taylor: sin, cos, ... replaced by Taylor polynomials of order %d (phi = %d)\n",
                             a.taylor_order, taylor->degree);
     if (std::count(methods.begin(), methods.end(), "original"))
-      std::printf("original: HB-AFT on the original right-hand side, M = the recast's AFT count (aliases)\n");
+      std::printf("original: HB-AFT on the original right-hand side, M = %s (aliases)\n",
+                  a.original_samples > 0 ? std::to_string(a.original_samples).c_str() : "the recast's AFT count");
   }
   if (converged == 0) {
     std::fprintf(stderr, "rmhb: no solve converged\n");

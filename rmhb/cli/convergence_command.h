@@ -26,6 +26,7 @@ struct ConvergenceArgs {
   std::string solvers;               // "": the default solver
   std::string conditions = "model";  // model, scheme1, scheme2, scheme3 (a list)
   int taylor_order = 15;
+  int original_samples = 0;          // 0: the recast system's HB-AFT count
   int repeat = 1;
   double max_seconds = 60;
   std::string plot;
