@@ -489,7 +489,7 @@ int RunConvergence(const ConvergenceArgs& a) {
           break;
         }
     }
-    if (taylor) std::printf("taylor: sin, cos, ... replaced by Taylor polynomials of order %d (phi = %d)\n",
+    if (taylor) std::printf("taylor: the non-polynomial terms replaced by their Taylor polynomials of order %d (phi = %d)\n",
                             a.taylor_order, taylor->degree);
     if (std::count(methods.begin(), methods.end(), "original"))
       std::printf("original: HB-AFT on the original right-hand side, M = %s (aliases)\n",

@@ -64,7 +64,7 @@ std::string Script(const Plot& plot, const std::string& file, const std::string&
     << " noenhanced font 'sans,11'\n";
   s << "set output " << Quote(file) << "\n";
   s << "set multiplot layout " << rows << ",1 title " << Quote(plot.title) << "\n";
-  s << "set grid\nset key outside right top box\n";
+  s << "set grid\nset key outside right top box\nset linetype 5 lc rgb \"black\"\n";
   for (size_t p = 0; p < plot.panels.size(); ++p) {
     const PlotPanel& panel = plot.panels[p];
     s << "set title " << Quote(panel.title) << "\n";
