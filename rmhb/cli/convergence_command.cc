@@ -304,12 +304,7 @@ int RunConvergence(const ConvergenceArgs& a) {
   std::vector<std::shared_ptr<HarmonicBalanceProblem>> problems;
   for (const auto& c : schemes) problems.push_back(std::make_shared<HarmonicBalanceProblem>(WithConditions(source, c)));
   const HarmonicBalanceProblem& default_problem = source.problem;
-  auto guess_at = [&source](int order) {
-    HarmonicSolution g = source.guess(order);
-    std::vector<double> w = g.frequencies();
-    for (size_t b = 0; b < w.size(); ++b) w[b] = source.problem.frequencies[b];
-    return g.WithFrequencies(w);
-  };
+  auto guess_at = [&source](int order) { return GuessAtOrder(source, order); };
 
   std::shared_ptr<model::RecastResult> taylor;
   std::string taylor_error;

@@ -49,6 +49,10 @@ struct PreparedSolve {
 // and the starting guess. Throws std::invalid_argument naming the bad value.
 PreparedSolve PrepareSolve(const SolveSettings& settings);
 
+// The source's starting guess at `order`, with the problem's frequencies
+// (after --frequencies): what PrepareSolve gives, for any other order.
+HarmonicSolution GuessAtOrder(const ProblemSource& source, int order);
+
 // "a,b,c" or "a:b:c" -> numbers; throws std::invalid_argument naming `what`
 // and the item that is not a finite number.
 std::vector<double> ParseNumberList(const std::string& text, const char* what);
