@@ -71,6 +71,21 @@ TEST(Simulate, ModelFileAndStandardOutput) {
   EXPECT_EQ(rows, 5);
 }
 
+TEST(Simulate, BlowUpStopsWithExitCode3AndTheRowsReached) {
+  // x' = x^2, x(0) = 1: x = 1/(1 - t) blows up at t = 1.
+  const std::string model = ::testing::TempDir() + "simulate_blowup.yaml";
+  std::ofstream(model) << "name: blowup\nvariables: [x]\nequations:\n  - \"x' = x^2\"\n"
+                          "frequencies:\n  - {guess: 1}\ninitial_state: {x: 1}\nguess: {x: \"1\"}\n";
+  const std::string csv = ::testing::TempDir() + "simulate_blowup.csv";
+  const auto r = Cli("simulate " + model + " --t-end 2 --dt 0.25 --csv " + csv);
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("integration failed"), std::string::npos) << r.out;
+  std::string header;
+  const auto rows = ReadCsv(csv, &header);
+  ASSERT_EQ(rows.size(), 4u);  // t = 0, 0.25, 0.5, 0.75
+  for (const auto& row : rows) EXPECT_NEAR(row[1], 1 / (1 - row[0]), 1e-8) << row[0];
+}
+
 TEST(Simulate, BadInputIsRefused) {
   EXPECT_EQ(Cli("simulate pendulum --dt 0").code, 2);
   EXPECT_EQ(Cli("simulate pendulum --t-end -1").code, 2);
