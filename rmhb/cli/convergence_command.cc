@@ -226,6 +226,72 @@ std::string CellText(const Cell& c) {
   return buf;
 }
 
+// RHB-Taylor's system: the model's equations Taylor-expanded, recast.
+// Null with the reason in *error when there is none.
+std::shared_ptr<model::RecastResult> TaylorRecast(const ProblemSource& source, int order, std::string* error) {
+  std::shared_ptr<const model::ModelDefinition> definition = source.definition;
+  if (!definition) {
+    const std::string file = TwinModelFile(source.name);
+    if (!file.empty()) definition = std::make_shared<const model::ModelDefinition>(model::LoadModelFile(file));
+  }
+  if (!definition) {
+    *error = "needs the model's equations: pass a model file (examples/models/" + source.name + ".yaml)";
+  } else if (source.problem.frequencies.size() != 1) {
+    *error = "periodic models only";
+  } else {
+    try {
+      return std::make_shared<model::RecastResult>(
+          model::Recast(model::TaylorExpanded(*definition, order), source.overrides));
+    } catch (const model::ModelError& e) {
+      *error = e.what();
+    }
+  }
+  return nullptr;
+}
+
+// The original equations as an explicit ODE with the user's conditions
+// moved onto its states. Null with the reason in *error when there is none.
+std::shared_ptr<ExplicitOdeProblem> OriginalOde(const ProblemSource& source, std::string* error) {
+  if (!source.original) {
+    *error = source.original_error;
+    return nullptr;
+  }
+  if (source.problem.frequencies.size() != 1) {
+    *error = "periodic models only";
+    return nullptr;
+  }
+  auto ode = std::make_shared<ExplicitOdeProblem>();
+  ode->names = source.state_names;
+  ode->rhs = source.original(source.problem.frequencies).rhs;
+  ode->frequency = source.problem.frequencies[0];
+  ode->unknown_frequency = !source.problem.unknown_frequency.empty() && source.problem.unknown_frequency[0];
+  for (int c = 0; c < source.num_user_conditions; ++c)
+    ode->conditions.push_back(
+        OnStates(source.problem.conditions[c], source.state_sources, source.problem.system.num_variables()));
+  return ode;
+}
+
+// Error against run time (log-log) and against order, one line per column.
+void PlotTable(const ProblemSource& source, const std::string& measure, const std::vector<int>& orders,
+               const std::vector<Column>& columns, const std::string& file) {
+  Plot plot{source.name + ": " + source.equation, {}};
+  PlotPanel speed{"error against run time", "run time [s]", "error: " + measure, true, true, {}};
+  PlotPanel order{"error against order", source.problem.frequencies.size() == 1 ? "order N" : "order p", "error",
+                  false, true, {}};
+  for (const auto& col : columns) {
+    PlotSeries s{col.name, {}, {}, PlotSeries::Style::kLinesPoints, {}}, o = s;
+    for (size_t i = 0; i < orders.size(); ++i) {
+      if (col.cells[i].status != "converged") continue;
+      s.x.push_back(col.cells[i].seconds), s.y.push_back(col.cells[i].error);
+      o.x.push_back(orders[i]), o.y.push_back(col.cells[i].error);
+    }
+    speed.series.push_back(s);
+    order.series.push_back(o);
+  }
+  plot.panels = {speed, order};
+  WritePlot(plot, file);
+}
+
 }  // namespace
 
 void AddConvergenceOptions(CLI::App* app, ConvergenceArgs* a) {
@@ -306,45 +372,11 @@ int RunConvergence(const ConvergenceArgs& a) {
   const HarmonicBalanceProblem& default_problem = source.problem;
   auto guess_at = [&source](int order) { return GuessAtOrder(source, order); };
 
+  std::string taylor_error, ode_error;
   std::shared_ptr<model::RecastResult> taylor;
-  std::string taylor_error;
-  if (std::count(methods.begin(), methods.end(), "taylor")) {
-    std::shared_ptr<const model::ModelDefinition> definition = source.definition;
-    if (!definition) {
-      const std::string file = TwinModelFile(source.name);
-      if (!file.empty()) definition = std::make_shared<const model::ModelDefinition>(model::LoadModelFile(file));
-    }
-    if (!definition) {
-      taylor_error = "needs the model's equations: pass a model file (examples/models/" + source.name + ".yaml)";
-    } else if (!periodic) {
-      taylor_error = "periodic models only";
-    } else {
-      try {
-        taylor = std::make_shared<model::RecastResult>(
-            model::Recast(model::TaylorExpanded(*definition, a.taylor_order), source.overrides));
-      } catch (const model::ModelError& e) {
-        taylor_error = e.what();
-      }
-    }
-  }
+  if (std::count(methods.begin(), methods.end(), "taylor")) taylor = TaylorRecast(source, a.taylor_order, &taylor_error);
   std::shared_ptr<ExplicitOdeProblem> ode;
-  std::string ode_error;
-  if (std::count(methods.begin(), methods.end(), "original")) {
-    if (!source.original) {
-      ode_error = source.original_error;
-    } else if (!periodic) {
-      ode_error = "periodic models only";
-    } else {
-      ode = std::make_shared<ExplicitOdeProblem>();
-      ode->names = source.state_names;
-      ode->rhs = source.original(source.problem.frequencies).rhs;
-      ode->frequency = source.problem.frequencies[0];
-      ode->unknown_frequency = !source.problem.unknown_frequency.empty() && source.problem.unknown_frequency[0];
-      for (int c = 0; c < source.num_user_conditions; ++c)
-        ode->conditions.push_back(OnStates(source.problem.conditions[c], source.state_sources,
-                                           source.problem.system.num_variables()));
-    }
-  }
+  if (std::count(methods.begin(), methods.end(), "original")) ode = OriginalOde(source, &ode_error);
 
   std::vector<Column> columns;
   for (size_t ci = 0; ci < schemes.size(); ++ci)
@@ -431,23 +463,7 @@ int RunConvergence(const ConvergenceArgs& a) {
 
   const std::string first = source.problem.system.variables()[0].name;
   const std::string measure = ErrorMeasure(source.reference, first);
-  if (!a.plot.empty()) {
-    Plot plot{source.name + ": " + source.equation, {}};
-    PlotPanel speed{"error against run time", "run time [s]", "error: " + measure, true, true, {}};
-    PlotPanel order{"error against order", periodic ? "order N" : "order p", "error", false, true, {}};
-    for (const auto& col : columns) {
-      PlotSeries s{col.name, {}, {}, PlotSeries::Style::kLinesPoints, {}}, o = s;
-      for (size_t i = 0; i < orders.size(); ++i) {
-        if (col.cells[i].status != "converged") continue;
-        s.x.push_back(col.cells[i].seconds), s.y.push_back(col.cells[i].error);
-        o.x.push_back(orders[i]), o.y.push_back(col.cells[i].error);
-      }
-      speed.series.push_back(s);
-      order.series.push_back(o);
-    }
-    plot.panels = {speed, order};
-    WritePlot(plot, a.plot);
-  }
+  if (!a.plot.empty()) PlotTable(source, measure, orders, columns, a.plot);
 
   if (a.json) {
     json cols = json::array();
