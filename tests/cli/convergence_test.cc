@@ -32,8 +32,8 @@ TEST(Convergence, PendulumRhbConvergesAndTaylorStalls) {
       EXPECT_GT(r["seconds"].get<double>(), 0.0);
     }
   }
-  // RHB: geometric decrease to round-off (independent check: the exact
-  // frequency, not the command's own error column).
+  // RHB: geometric decrease to round-off, against the exact solution (nome
+  // series) and the exact frequency (elliptic integral).
   const auto& rhb = Column(table, "rhb")["rows"];
   EXPECT_GT(rhb[0]["max_error"].get<double>(), rhb[1]["max_error"].get<double>());
   EXPECT_GT(rhb[1]["max_error"].get<double>(), rhb[2]["max_error"].get<double>());
