@@ -66,16 +66,18 @@ ProblemSource FromFile(const std::string& path, const std::map<std::string, doub
       return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<long>(v.size())).eval();
     };
     p.state_names = recast->original->state_names;
+  } else {
+    p.original_error = recast->original_error;
+  }
+  p.recast_report = recast->Report();
+  if (recast->original) {
     p.state_sources = recast->original->sources;
     if (recast->initial_state)
       p.initial_state = Eigen::Map<const Eigen::VectorXd>(recast->initial_state->data(),
                                                           static_cast<long>(recast->initial_state->size()));
     else
       p.initial_state = p.state(p.guess(p.default_order), 0.0);
-  } else {
-    p.original_error = recast->original_error;
   }
-  p.recast_report = recast->Report();
   p.num_user_conditions = recast->num_user_conditions;
   p.definition = std::make_shared<const model::ModelDefinition>(definition);
   p.overrides = overrides;
