@@ -14,7 +14,9 @@
 #include "examples/example_system.h"
 #include "rmhb/cli/problem_source.h"
 #include "integrators/trajectory_validation.h"
+#include "integrators/cvode_integrator.h"
 #include "rmhb/cli/exit_codes.h"
+#include "rmhb/cli/plot.h"
 #include "rmhb/harmonic_balance.h"
 
 namespace rmhb::cli {
@@ -49,16 +51,79 @@ std::map<std::string, double> ParseOverrides(const std::vector<std::string>& ass
 
 void AddSolveOptions(CLI::App* app, SolveArgs* a) {
   AddSolveSettings(app, &a->settings);
-  app->add_option("--eval", a->eval, "Evaluate the solution at t0:dt:t1 (with --csv)");
-  app->add_option("--csv", a->csv, "CSV file for --eval: t and every variable");
+  app->add_option("--eval", a->eval, "Evaluate the solution at t0:dt:t1 (needs --csv)");
+  app->add_option("--csv", a->csv, "CSV file for --eval: t and every variable, auxiliaries included");
   app->add_flag("--validate", a->validate,
                 "Integrate the original equations with SUNDIALS from the solution's initial "
                 "state and report the maximum error");
   app->add_option("--validate-periods", a->validate_periods, "Periods to integrate (default 1)")
       ->check(CLI::Range(1, 100000));
+  app->add_option("--plot", a->plot,
+                  "Draw the time response against a CVODE integration of the original equations, "
+                  "their difference and the phase portrait into FILE.png or FILE.svg (gnuplot)");
   app->add_flag("--json", a->json, "Machine-readable output");
   app->add_flag("--quiet,-q", a->quiet, "Only the summary line");
+  app->footer(
+      "Exit codes: 0 converged, 1 usage, 2 bad input (unknown model or parameter, model file\n"
+      "error with file:line:column, invalid value, samples below the alias-free bound without\n"
+      "--allow-aliasing, gnuplot missing for --plot), 3 not converged (the residual reached is\n"
+      "printed), 4 internal.");
 }
+
+namespace {
+
+// Two periods of the slowest base: the solution and CVODE started on it
+// (the original equations), their difference, and the phase portrait.
+void PlotSolution(const ProblemSource& source, const HarmonicSolution& sol, const std::string& file) {
+  const double period = 2 * M_PI / *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
+  std::vector<double> times(801);
+  for (size_t i = 0; i < times.size(); ++i) times[i] = 2 * period * i / (times.size() - 1);
+  const int n = source.original ? static_cast<int>(source.state_names.size()) : 0;
+  std::vector<std::vector<double>> hb(n, std::vector<double>(times.size()));
+  for (size_t i = 0; i < times.size() && n; ++i) {
+    const Eigen::VectorXd y = source.state(sol, times[i]);
+    for (int j = 0; j < n; ++j) hb[j][i] = y(j);
+  }
+  PlotPanel response{"time response: harmonic balance (lines) against CVODE (points)", "t", "state", false, false, {}};
+  PlotPanel error{"|harmonic balance - CVODE|", "t", "error", false, true, {}};
+  PlotPanel phase{"phase portrait", n ? source.state_names[0] : "", n > 1 ? source.state_names[1] : "", false, false, {}};
+  if (n) {
+    integrators::IntegratorOptions io;
+    io.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
+    io.relative_tolerance = 1e-13;
+    io.absolute_tolerance = 1e-15;
+    const integrators::IntegrationResult r =
+        integrators::IntegrateOde(source.original(sol.frequencies()), source.state(sol, 0.0), 0.0, times, io);
+    for (int j = 0; j < n; ++j) {
+      PlotSeries line{source.state_names[j] + " (HB)", times, hb[j], PlotSeries::Style::kLines, {}};
+      PlotSeries ref{source.state_names[j] + " (CVODE)", {}, {}, PlotSeries::Style::kPoints, {}};
+      PlotSeries diff{source.state_names[j], {}, {}, PlotSeries::Style::kLines, {}};
+      for (int i = 0; i < r.trajectory.size(); i += 8) ref.x.push_back(r.trajectory.times[i]), ref.y.push_back(r.trajectory.states(i, j));
+      for (int i = 0; i < r.trajectory.size(); ++i) {
+        diff.x.push_back(r.trajectory.times[i]);
+        diff.y.push_back(std::abs(hb[j][i] - r.trajectory.states(i, j)));
+      }
+      response.series.push_back(line);
+      response.series.push_back(ref);
+      error.series.push_back(diff);
+    }
+    if (n > 1) phase.series.push_back({"HB", hb[0], hb[1], PlotSeries::Style::kLines, {}});
+  } else {  // no original system: the solution alone
+    for (int j = 0; j < sol.num_variables(); ++j) {
+      if (sol.variables()[j].role == VariableRole::kAuxiliary) continue;
+      PlotSeries line{sol.variables()[j].name, times, {}, PlotSeries::Style::kLines, {}};
+      for (double t : times) line.y.push_back(sol.Value(j, t));
+      response.series.push_back(line);
+    }
+    response.title = "time response (no original ODE to compare with: " + source.original_error + ")";
+  }
+  Plot plot{source.name + ": " + source.equation, {response}};
+  if (n) plot.panels.push_back(error);
+  if (n > 1) plot.panels.push_back(phase);
+  WritePlot(plot, file);
+}
+
+}  // namespace
 
 int RunList(bool as_json) {
   json out = json::array();
@@ -80,9 +145,14 @@ int RunList(bool as_json) {
 }
 
 void AddRecastOptions(CLI::App* app, RecastArgs* a) {
-  app->add_option("model", a->model, "Example name or model file")->required();
+  app->add_option("model", a->model, "Example name (see `rmhb list`) or model file (examples/models/*.yaml)")
+      ->required();
   app->add_option("--set", a->set, "Override a parameter: --set name=value (repeatable)");
-  app->add_flag("--json", a->json, "Machine-readable output");
+  app->add_flag("--json", a->json,
+                "Machine-readable output: model, equation, degree, variables (name, role, definition), "
+                "equations (with balance_constant), conditions, frequencies");
+  app->footer("Exit codes: 0 ok, 1 usage, 2 bad input (unknown example or parameter, model file error\n"
+              "with file:line:column), 4 internal.");
 }
 
 int RunRecast(const RecastArgs& a) {
@@ -120,6 +190,7 @@ int RunRecast(const RecastArgs& a) {
 }
 
 int RunSolve(const SolveArgs& a) {
+  if (!a.plot.empty()) CheckPlotRequest(a.plot);
   PreparedSolve prepared = PrepareSolve(a.settings);
   const ProblemSource& source = prepared.source;
   const HarmonicBalanceProblem& problem = source.problem;
@@ -211,6 +282,10 @@ int RunSolve(const SolveArgs& a) {
     out["eval"] = {{"file", a.csv}, {"points", static_cast<long>(count)}};
   }
 
+  if (!a.plot.empty() && converged) {
+    PlotSolution(source, sol, a.plot);
+    out["plot"] = a.plot;
+  }
   if (a.json) {
     std::cout << out.dump(1) << "\n";
   } else {

@@ -22,6 +22,7 @@ struct SolveArgs {
   bool quiet = false;
   std::string eval;         // "t0:dt:t1"
   std::string csv;          // file for --eval
+  std::string plot;         // FILE.png|svg: response, error, phase portrait
 };
 
 struct RecastArgs {

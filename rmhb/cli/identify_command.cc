@@ -15,7 +15,9 @@
 #include "integrators/cvode_integrator.h"
 #include "integrators/ida_integrator.h"
 #include "rmhb/cli/commands.h"
+#include "frequency_id/spectrum.h"
 #include "rmhb/cli/exit_codes.h"
+#include "rmhb/cli/plot.h"
 #include "rmhb/cli/problem_source.h"
 #include "rmhb/cli/solve_setup.h"
 
@@ -73,12 +75,51 @@ frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known,
   return signal;
 }
 
+// The windowed amplitude spectrum of the first channel, and every identified
+// line at its refined frequency labelled with its combination (m, n).
+void PlotSpectrum(const frequency_id::Signal& signal, const frequency_id::IdentificationSummary& summary,
+                  const std::string& file) {
+  frequency_id::SampleGrid grid;
+  grid.t0 = signal.t0;
+  grid.dt = signal.dt;
+  grid.size = static_cast<int>(signal.samples.rows());
+  frequency_id::SpectrumAnalyzer analyzer(grid, frequency_id::Window(summary.window_order > 0 ? summary.window_order : 2));
+  const Eigen::VectorXd& amplitude = analyzer.Compute(signal.samples.col(0));
+  double top = 0;
+  for (const auto& c : summary.components) top = std::max(top, c.frequency);
+  PlotSeries spectrum{"windowed FFT, " + (summary.channel_names.empty() ? std::string("channel 1") : summary.channel_names[0]),
+                      {}, {}, PlotSeries::Style::kLines, {}};
+  for (int k = 1; k < analyzer.num_bins(); ++k) {
+    if (analyzer.BinFrequency(k) > 1.2 * top + 1) break;
+    spectrum.x.push_back(analyzer.BinFrequency(k));
+    spectrum.y.push_back(amplitude(k));
+  }
+  PlotSeries lines{"identified lines (m, n)", {}, {}, PlotSeries::Style::kImpulses, {}};
+  for (const auto& c : summary.components) {
+    lines.x.push_back(c.frequency);
+    lines.y.push_back(c.amplitude.size() ? c.amplitude(0) : 0.0);
+    std::string label = "(";
+    for (size_t i = 0; i < c.label.size(); ++i) label += (i ? "," : "") + std::to_string(c.label[i]);
+    lines.labels.push_back(c.label.empty() ? "?" : label + ")");
+  }
+  std::string bases;
+  for (const auto& b : summary.bases) {
+    char w[32];
+    std::snprintf(w, sizeof w, "%.10g", b.frequency);
+    bases += (bases.empty() ? "" : ", ") + std::string(w);
+  }
+  Plot plot{"frequency identification: bases " + bases, {}};
+  plot.panels.push_back({"amplitude spectrum with labelled combination tones", "angular frequency [rad/time]",
+                         "amplitude", false, true, {spectrum, lines}});
+  WritePlot(plot, file);
+}
+
 }  // namespace
 
 void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
   app->add_option("model", a->model, "Example name or model file to integrate (or use --signal)");
   app->add_option("--signal", a->signal, "CSV file: a time column, then one column per channel");
-  app->add_option("--set", a->set, "Override a model parameter: --set name=value");
+  app->add_option("--set", a->set, "Override a model parameter: --set name=value (repeatable)");
   // Explicit values must be finite: the defaults are marked by 0 and -1.
   auto finite_at_least = [](double low, bool strict) {
     return CLI::Validator(
@@ -91,21 +132,26 @@ void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
         },
         strict ? "POSITIVE" : "NONNEGATIVE");
   };
-  app->add_option("--t-end", a->t_end, "Length of the integrated record (default: from the frequencies)")
+  app->add_option("--t-end", a->t_end, "Length of the integrated record (default: 300 periods of the slowest base, and at "
+                  "least 20 beat periods of two close bases)")
       ->check(finite_at_least(0, true));
-  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth)")
+  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth of --t-end)")
       ->check(finite_at_least(0, false));
   app->add_option("--samples-per-period", a->samples_per_period,
                   "Samples per period of the fastest base (default 32)")
       ->check(CLI::Range(4, 4096));
   app->add_option("--window", a->window, "Hann^q window order q (0: chosen from the line spacing)")
       ->check(CLI::Range(0, 8));
+  app->add_option("--plot", a->plot, "Draw the spectrum with the labelled lines into FILE.png or FILE.svg");
   app->add_flag("--json", a->json, "Machine-readable output");
+  app->footer("Exit codes: 0 ok, 1 usage, 2 bad input (unreadable CSV, unknown model, bad value,\n"
+              "gnuplot missing for --plot), 3 no usable bases found (the message says why), 4 internal.");
 }
 
 int RunIdentify(const IdentifyArgs& a) {
   if (a.model.empty() == a.signal.empty())
     throw std::invalid_argument("identify needs either a model or --signal FILE.csv");
+  if (!a.plot.empty()) CheckPlotRequest(a.plot);
   frequency_id::Signal signal;
   std::vector<double> known;
   double integration_seconds = 0;
@@ -141,6 +187,10 @@ int RunIdentify(const IdentifyArgs& a) {
   out["samples"] = summary.num_samples;
   out["duration"] = summary.duration;
   out["seconds"] = {{"integration", integration_seconds}, {"identification", summary.total_seconds}};
+  if (!a.plot.empty()) {
+    PlotSpectrum(signal, summary, a.plot);
+    out["plot"] = a.plot;
+  }
   if (a.json) {
     std::cout << out.dump(1) << "\n";
   } else {

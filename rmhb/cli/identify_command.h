@@ -22,6 +22,7 @@ struct IdentifyArgs {
   double transient = -1; // -1: a tenth of the record
   int samples_per_period = 32;
   int window = 0;        // Hann^q order, 0 = automatic
+  std::string plot;      // spectrum with labelled lines, FILE.png|svg
   bool json = false;
 };
 

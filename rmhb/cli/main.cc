@@ -13,6 +13,8 @@
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/identify_command.h"
 #include "rmhb/cli/montecarlo_command.h"
+#include "rmhb/cli/simulate_command.h"
+#include "rmhb/cli/convergence_command.h"
 #include "rmhb/model/model_error.h"
 
 int main(int argc, char** argv) {
@@ -21,7 +23,9 @@ int main(int argc, char** argv) {
       "rmhb: periodic and quasi-periodic steady states of nonlinear dynamical systems by\n"
       "reconstruction harmonic balance (RHB), to machine precision.\n\n"
       "Exit codes: 0 ok, 1 usage error, 2 bad input (unknown model or parameter, invalid\n"
-      "value), 3 the solver did not converge (the residual reached is reported), 4 internal."};
+      "value, gnuplot missing for --plot), 3 the solver did not converge (the residual\n"
+      "reached is reported) or an integration stopped early, 4 internal.\n"
+      "`rmhb <command> --help` describes each command, its options and defaults."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "rmhb 0.1.0");
 
@@ -52,10 +56,22 @@ int main(int argc, char** argv) {
       "montecarlo", "Random starts solved by RHB and HDHB: the distinct solutions each finds, classified\n"
                     "physical-stable, physical-unstable or non-physical (the paper's Table 1).");
   AddMonteCarloOptions(montecarlo_cmd, &montecarlo);
+  SimulateArgs simulate;
+  CLI::App* simulate_cmd = app.add_subcommand(
+      "simulate", "Integrate the ORIGINAL equations with SUNDIALS CVODE from the model's initial\n"
+                  "state; write t and every state as CSV.");
+  AddSimulateOptions(simulate_cmd, &simulate);
+
+  ConvergenceArgs convergence;
+  CLI::App* convergence_cmd = app.add_subcommand(
+      "convergence", "Error against run time for each order: RHB, HDHB and HB-AFT side by side,\n"
+                     "and for non-polynomial models RHB-Taylor and HB-AFT on the original equations.");
+  AddConvergenceOptions(convergence_cmd, &convergence);
 
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;
-  list_cmd->add_flag("--json", list_json, "Machine-readable output");
+  list_cmd->add_flag("--json", list_json, "Machine-readable output: name, description, equation, parameters");
+  list_cmd->footer("Exit codes: 0 ok, 1 usage.");
 
   try {
     app.parse(argc, argv);
@@ -75,6 +91,8 @@ int main(int argc, char** argv) {
     if (*recast_cmd) return RunRecast(recast);
     if (*identify_cmd) return RunIdentify(identify);
     if (*montecarlo_cmd) return RunMonteCarlo(montecarlo);
+    if (*simulate_cmd) return RunSimulate(simulate);
+    if (*convergence_cmd) return RunConvergence(convergence);
   } catch (const rmhb::model::ModelError& e) {
     std::fprintf(stderr, "rmhb: error: %s\n", e.what());
     return kExitBadInput;

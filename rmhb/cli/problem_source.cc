@@ -36,6 +36,12 @@ ProblemSource FromExample(const std::string& name, const std::map<std::string, d
   p.stiff = setup->original.stiff;
   p.reference = setup->reference;
   p.recast_report = setup->problem.system.ToString();
+  p.initial_state = p.state(setup->guess, 0.0);
+  for (int i = 0; i < setup->original.dimension(); ++i) p.state_sources.push_back({i, 0});
+  int pins = 0;
+  for (const auto& e : setup->problem.system.equations()) pins += e.balance_constant ? 0 : 1;
+  p.num_user_conditions = static_cast<int>(setup->problem.conditions.size()) - pins;
+  p.overrides = overrides;
   return p;
 }
 
@@ -75,6 +81,17 @@ ProblemSource FromFile(const std::string& path, const std::map<std::string, doub
     p.original_error = recast->original_error;
   }
   p.recast_report = recast->Report();
+  if (recast->original) {
+    p.state_sources = recast->original->sources;
+    if (recast->initial_state)
+      p.initial_state = Eigen::Map<const Eigen::VectorXd>(recast->initial_state->data(),
+                                                          static_cast<long>(recast->initial_state->size()));
+    else
+      p.initial_state = p.state(p.guess(p.default_order), 0.0);
+  }
+  p.num_user_conditions = recast->num_user_conditions;
+  p.definition = std::make_shared<const model::ModelDefinition>(definition);
+  p.overrides = overrides;
   return p;
 }
 

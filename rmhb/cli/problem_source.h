@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,8 @@
 #include "integrators/ode_system.h"
 #include "rmhb/collocation_residual.h"
 #include "rmhb/harmonic_solution.h"
+#include "rmhb/model/model_definition.h"
+#include "rmhb/model/original_system.h"
 
 namespace rmhb::cli {
 
@@ -42,6 +45,18 @@ struct ProblemSource {
   std::string original_error;  // why there is no original system, if so
   examples::Reference reference;
   std::string recast_report;   // the polynomial system, readable
+  // Where the model starts (simulate): its initial_state, or else the
+  // guess's state at t = 0 (the examples' guesses meet their conditions).
+  Eigen::VectorXd initial_state;
+  // Where each original state lives among the recast variables (examples:
+  // state i is recast variable i), and how many of the problem's conditions
+  // are the user's (the rest pin auxiliaries, METHOD.md eq. 24).
+  std::vector<model::StateSource> state_sources;
+  int num_user_conditions = 0;
+  // The parsed model (model files only): for symbolic variants such as the
+  // Taylor-expanded system.
+  std::shared_ptr<const model::ModelDefinition> definition;
+  model::ParameterValues overrides;
 };
 
 // A path (contains '/' or ends in .yaml/.yml, or names an existing file) is

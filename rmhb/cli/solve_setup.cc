@@ -142,11 +142,15 @@ PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, d
       a.sampling == "gcd" ? QuasiPeriodicSampling::kGcd : QuasiPeriodicSampling::kTorus;
   // An explicit --basis overrides the example's own index set.
   if (source.basis_for_order && !a.shape_given) options.basis_for_order = source.basis_for_order;
-  HarmonicSolution guess = source.guess(options.order);
-  std::vector<double> w = guess.frequencies();
-  for (int b = 0; b < bases; ++b) w[b] = problem.frequencies[b];
-  guess = guess.WithFrequencies(w);
+  HarmonicSolution guess = GuessAtOrder(source, options.order);
   return PreparedSolve{std::move(source), std::move(options), std::move(guess)};
+}
+
+HarmonicSolution GuessAtOrder(const ProblemSource& source, int order) {
+  const HarmonicSolution guess = source.guess(order);
+  std::vector<double> w = guess.frequencies();
+  for (size_t b = 0; b < w.size(); ++b) w[b] = source.problem.frequencies[b];
+  return guess.WithFrequencies(w);
 }
 
 json SolutionJson(const HarmonicSolution& sol) {

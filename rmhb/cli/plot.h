@@ -1,0 +1,50 @@
+#ifndef RMHB_CLI_PLOT_H_
+#define RMHB_CLI_PLOT_H_
+
+// `--plot FILE.png|svg` of every command: the data and a gnuplot script go to
+// a temporary directory, gnuplot draws, the directory is removed. gnuplot is
+// a run-time dependency only (Debian: gnuplot-nox); without it a plot request
+// is bad input (exit 2) with a message saying what to install, and nothing
+// else the command does depends on it.
+
+#include <string>
+#include <vector>
+
+namespace rmhb::cli {
+
+struct PlotSeries {
+  std::string title;  // legend entry
+  std::vector<double> x, y;
+  enum class Style { kLines, kLinesPoints, kPoints, kImpulses } style = Style::kLines;
+  // With kImpulses: a text label drawn above each point (e.g. "(1,-2)").
+  std::vector<std::string> labels;
+};
+
+struct PlotPanel {
+  std::string title, x_label, y_label;
+  bool log_x = false, log_y = false;  // non-positive values are left out
+  std::vector<PlotSeries> series;
+};
+
+// Panels are stacked top to bottom on one page.
+struct Plot {
+  std::string title;
+  std::vector<PlotPanel> panels;
+};
+
+// Where gnuplot is on PATH ("" if not found).
+std::string FindGnuplot();
+
+// Checks a --plot request before any work is done: the extension and that
+// gnuplot is there. Throws std::invalid_argument as WritePlot does.
+void CheckPlotRequest(const std::string& file);
+
+// Draws `plot` into `file`, PNG or SVG by its extension. Throws
+// std::invalid_argument when the extension is neither, when gnuplot is not
+// found ("gnuplot not found: install gnuplot-nox") or when it fails (with
+// its own message).
+void WritePlot(const Plot& plot, const std::string& file);
+
+}  // namespace rmhb::cli
+
+#endif  // RMHB_CLI_PLOT_H_
