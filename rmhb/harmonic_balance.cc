@@ -233,6 +233,13 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   o.tolerance = 0;
   HarmonicBalanceSummary current = SolveWithContinuation(problem, initial_guess, o);
   std::vector<int> tried = {o.order};
+  // Too low a start can have no solution near the physical one (the
+  // pendulum near its separatrix at N = 25): start higher rather than fail.
+  while (!current.converged() && 2 * o.order <= options.max_order && tried.size() < 4) {
+    o.order *= 2;
+    current = SolveWithContinuation(problem, initial_guess, o);
+    tried.push_back(o.order);
+  }
   auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {
     s.orders_tried = tried;
     if (s.solver.converged()) s.solver.status = SolverStatus::kNoConvergence;

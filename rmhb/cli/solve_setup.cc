@@ -104,6 +104,11 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
   app->add_option("--max-iterations", a->max_iterations, "Nonlinear solver iteration limit (default 100)")
       ->check(CLI::Range(1, 100000));
   app->add_flag("--allow-aliasing", a->allow_aliasing, "Accept M below the alias-free bound");
+  app->add_option("--tol", a->tol,
+                  "Choose the order automatically: from --order (or the model's default), "
+                  "raise it warm-started until two successive orders agree to TOL (relative "
+                  "frequency, scaled coefficients); reports the orders tried and the estimate. "
+                  "Not reached by order 5000: exit 3");
 }
 
 PreparedSolve PrepareSolve(const SolveSettings& a) {
@@ -112,6 +117,8 @@ PreparedSolve PrepareSolve(const SolveSettings& a) {
     throw std::invalid_argument("--order must be >= 1 (got " + std::to_string(a.order) + ")");
   if (a.samples != -1 && a.samples < 1)
     throw std::invalid_argument("--samples must be >= 1 (got " + std::to_string(a.samples) + ")");
+  if (!(a.tol >= 0) || !std::isfinite(a.tol))
+    throw std::invalid_argument("--tol must be a finite number >= 0 (got " + std::to_string(a.tol) + ")");
   ProblemSource source = LoadProblem(a.model, values);
   HarmonicBalanceProblem& problem = source.problem;
   const int bases = static_cast<int>(problem.frequencies.size());
@@ -122,6 +129,7 @@ PreparedSolve PrepareSolve(const SolveSettings& a) {
   options.rule = ParseSamplingRule(a.method);
   if (a.samples > 0) options.samples.assign(bases, a.samples);
   options.allow_aliasing = a.allow_aliasing;
+  options.tolerance = a.tol;
   options.solver.method = ParseSolverMethod(a.solver);
   options.solver.max_iterations = a.max_iterations;
   options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;

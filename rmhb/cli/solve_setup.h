@@ -34,6 +34,7 @@ struct SolveSettings {
   std::string sampling = "torus";
   std::string shape = "diamond";
   bool shape_given = false;
+  double tol = 0;  // > 0: choose the order automatically (HarmonicBalanceOptions::tolerance)
 };
 
 // The model positional argument and the options above.
