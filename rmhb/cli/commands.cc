@@ -224,7 +224,8 @@ int RunSolve(const SolveArgs& a) {
                   summary.solver.iterations, ToString(summary.solver.method));
       std::printf("time         %.3f ms\n", summary.seconds * 1e3);
       if (summary.truncation_estimate >= 0) {
-        std::printf("order        %d chosen for --tol %g (orders", summary.order, options.tolerance);
+        std::printf("order        %d %s --tol %g (orders", summary.order,
+                    converged ? "chosen for" : "reached, short of", options.tolerance);
         for (int o : summary.orders_tried) std::printf(" %d", o);
         std::printf("), estimated truncation error %.3e\n", summary.truncation_estimate);
       }

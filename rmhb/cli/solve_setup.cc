@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -108,7 +109,9 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
                   "Choose the order automatically: from --order (or the model's default), "
                   "raise it warm-started until two successive orders agree to TOL (relative "
                   "frequency, scaled coefficients); reports the orders tried and the estimate. "
-                  "Not reached by order 5000: exit 3");
+                  "Not reached by --max-order: exit 3");
+  app->add_option("--max-order", a->max_order, "Highest order --tol may choose (default 5000)")
+      ->check(CLI::Range(1, 20000));
 }
 
 PreparedSolve PrepareSolve(const SolveSettings& a) {
@@ -130,6 +133,7 @@ PreparedSolve PrepareSolve(const SolveSettings& a) {
   if (a.samples > 0) options.samples.assign(bases, a.samples);
   options.allow_aliasing = a.allow_aliasing;
   options.tolerance = a.tol;
+  options.max_order = std::max(a.max_order, options.order);
   options.solver.method = ParseSolverMethod(a.solver);
   options.solver.max_iterations = a.max_iterations;
   options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;

@@ -35,6 +35,7 @@ struct SolveSettings {
   std::string shape = "diamond";
   bool shape_given = false;
   double tol = 0;  // > 0: choose the order automatically (HarmonicBalanceOptions::tolerance)
+  int max_order = 5000;  // the order selection's limit
 };
 
 // The model positional argument and the options above.
