@@ -183,6 +183,9 @@ HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& probl
       coarse.order = o;
       coarse.order_continuation = false;
       coarse.solver.acceptable_residual = 1e300;  // a truncated solve is only a guess
+      // Nor worth a Levenberg-Marquardt crawl when Newton fails on it (near
+      // the pendulum's separatrix that crawl was most of the time).
+      if (coarse.solver.method == SolverMethod::kAuto) coarse.solver.method = SolverMethod::kNewton;
       coarse.solver.step_tolerance = std::max(options.solver.step_tolerance, 1e-10);
       HarmonicBalanceSummary s = SolveAtOrder(problem, guess, coarse);
       if (s.solver.status == SolverStatus::kConverged ||
