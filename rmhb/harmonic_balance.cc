@@ -264,8 +264,9 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
     // Aim a little below the tolerance; grow by 25% at least (a difference
     // of nearly equal orders says little) and at most double.
     const int predicted = PredictOrder(*current.solution, 0.1 * options.tolerance);
-    const int next = std::min(options.max_order,
-                              std::clamp(predicted + 2, o.order + std::max(2, o.order / 4), 2 * o.order));
+    const int least = o.order + std::max(2, o.order / 4);
+    const int next =
+        std::min(options.max_order, std::clamp(predicted + 2, least, std::max(least, 2 * o.order)));
     HarmonicBalanceOptions n = o;
     n.order = next;
     n.order_continuation = false;  // warm-started from the previous order

@@ -109,6 +109,18 @@ TEST(OrderSelection, UnreachableToleranceIsNotConvergedWithTheEstimate) {
   EXPECT_EQ(s.order, 40);
 }
 
+// From order 1 (forced Duffing, no exact solution): the selected solution is
+// within the tolerance of a high-order one.
+TEST(OrderSelection, StartsFromOrderOne) {
+  const examples::ExampleSetup e = examples::BuildExample("duffing");
+  const HarmonicBalanceSummary s = Solve(e, 1, 1e-10);
+  ASSERT_TRUE(s.converged()) << s.FullReport();
+  const HarmonicBalanceSummary high = Solve(e, 60);
+  ASSERT_TRUE(high.converged());
+  EXPECT_LE(SolutionDifference(*s.solution, *high.solution), 1e-10) << "N = " << s.order;
+  EXPECT_GE(s.truncation_estimate, SolutionDifference(*s.solution, *high.solution));
+}
+
 TEST(OrderSelection, BadToleranceIsRefused) {
   const examples::ExampleSetup e = examples::BuildExample("pendulum");
   for (double tol : {-1e-10, double(NAN), double(INFINITY)}) {
