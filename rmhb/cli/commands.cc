@@ -141,7 +141,9 @@ int RunSolve(const SolveArgs& a) {
     out["order_selection"] = {{"tolerance", options.tolerance},
                               {"orders", summary.orders_tried},
                               {"estimate", Number(summary.truncation_estimate)}};
-  out["reciprocal_condition"] = Number(summary.solver.reciprocal_condition);
+  // null when not computed (no Newton factorisation, e.g. Levenberg-Marquardt).
+  out["reciprocal_condition"] =
+      summary.solver.reciprocal_condition > 0 ? Number(summary.solver.reciprocal_condition) : json(nullptr);
   out["samples"] = summary.samples.size() == 1 ? json(summary.samples[0]) : json(summary.samples);
   out["alias_free_samples"] = summary.alias_free_samples.size() == 1 ? json(summary.alias_free_samples[0]) : json(summary.alias_free_samples);
   out["sampling"] = summary.sampling;

@@ -43,6 +43,12 @@ TEST(CliTol, ChoosesTheOrderAndReportsTheEstimate) {
   EXPECT_LT(j["reciprocal_condition"].get<double>(), 1);
 }
 
+TEST(CliTol, ReciprocalConditionIsNullWithoutANewtonFactorisation) {
+  const CliRun run = Rmhb("solve duffing --order 10 --solver lm --json", false);
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_TRUE(nlohmann::json::parse(run.out)["reciprocal_condition"].is_null());
+}
+
 TEST(CliTol, TextReportNamesTheChosenOrder) {
   const CliRun run = Rmhb("solve pendulum --set theta0=3 --tol 1e-10");
   ASSERT_EQ(run.code, 0) << run.out;
