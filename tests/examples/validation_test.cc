@@ -93,7 +93,16 @@ TEST(VanDerPolRelaxation, CvodeReferenceMatchesThePublishedPeriod) {
   EXPECT_NEAR(CvodePeriod(10.0), 19.07836956693901407, 2e-11);
 }
 
-// eps = 20 (N ~ 1100, 3 s) and 50 (N ~ 6000, minutes): tests/benchmarks/rhb_benchmark.
+// The simulated starting guess survives the stiffness of eps = 50 (its RK4
+// step used to blow up) and starts close to the limit cycle.
+TEST(VanDerPolRelaxation, StiffGuessFindsThePeriod) {
+  const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", 50.0}});
+  const double guess_period = 2 * M_PI / e.guess.frequencies()[0];
+  EXPECT_NEAR(guess_period, CvodePeriod(50.0), 1e-3 * guess_period);
+  EXPECT_NEAR(e.guess.Value(0, 0.0), 2.0, 0.05);  // the guess starts at a maximum of x
+}
+
+// eps = 20 (N ~ 1000, 3 s) and 50 (N ~ 6000, minutes): tests/benchmarks/rhb_benchmark.
 TEST(VanDerPolRelaxation, PeriodMatchesTightCvodeReference) {
   struct Case {
     double eps;
