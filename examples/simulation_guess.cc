@@ -30,25 +30,34 @@ HarmonicSolution GuessFromSimulation(
     double period_guess, int transient_periods, const HarmonicBasis& basis,
     const std::vector<Variable>& variables,
     const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& aux) {
-  const double h = period_guess / 4000.0;
-  double t = 0;
-  for (int i = 0; i < 4000 * transient_periods; ++i, t += h) Rk4(rhs, t, h, &y);
-  // Two successive maxima of y[0]: y[0]' changes sign from + to -.
-  const int n = static_cast<int>(y.size());
-  Eigen::VectorXd d(n), prev = y;
+  // A stiff relaxation (Van der Pol, eps = 50) makes the explicit step
+  // unstable at 4000 steps per period: the state blows up. Refine until the
+  // run stays finite and finds the maxima.
+  const Eigen::VectorXd y0 = y;
   std::vector<double> maxima;
   std::vector<Eigen::VectorXd> states;
-  rhs(t, y.data(), d.data());
-  double prev_slope = d(0);
-  for (int i = 0; i < 4000 * 4 && maxima.size() < 2; ++i, t += h) {
-    prev = y;
-    Rk4(rhs, t, h, &y);
-    rhs(t + h, y.data(), d.data());
-    if (prev_slope > 0 && d(0) <= 0) {
-      maxima.push_back(t + h * prev_slope / (prev_slope - d(0)));
-      states.push_back(y);
+  for (int steps = 4000; steps <= 256000 && maxima.size() < 2; steps *= 4) {
+    y = y0;
+    maxima.clear();
+    states.clear();
+    const double h = period_guess / steps;
+    double t = 0;
+    for (int i = 0; i < steps * transient_periods && y.allFinite(); ++i, t += h) Rk4(rhs, t, h, &y);
+    // Two successive maxima of y[0]: y[0]' changes sign from + to -.
+    const int n = static_cast<int>(y.size());
+    Eigen::VectorXd d(n);
+    rhs(t, y.data(), d.data());
+    double prev_slope = d(0);
+    for (int i = 0; i < steps * 4 && maxima.size() < 2 && y.allFinite(); ++i, t += h) {
+      Rk4(rhs, t, h, &y);
+      rhs(t + h, y.data(), d.data());
+      if (prev_slope > 0 && d(0) <= 0) {
+        maxima.push_back(t + h * prev_slope / (prev_slope - d(0)));
+        states.push_back(y);
+      }
+      prev_slope = d(0);
     }
-    prev_slope = d(0);
+    if (!y.allFinite()) maxima.clear();
   }
   if (maxima.size() < 2) throw std::runtime_error("GuessFromSimulation: no periodic motion found");
   const double period = maxima[1] - maxima[0];

@@ -126,4 +126,16 @@ std::vector<double> FindCrossings(const OdeSystem& system, const Eigen::VectorXd
   return times;
 }
 
+double LimitCyclePeriod(const OdeSystem& system, const Eigen::VectorXd& y0, double t_end,
+                        const EventFunction& g, int direction, int transient_crossings,
+                        const IntegratorOptions& options, IntegrationResult* info) {
+  IntegrationResult local;
+  IntegrationResult* result = info ? info : &local;
+  const std::vector<double> crossings =
+      FindCrossings(system, y0, 0.0, t_end, g, direction, options, result);
+  const int usable = static_cast<int>(crossings.size()) - std::max(0, transient_crossings);
+  if (!result->ok() || usable < 2) return std::numeric_limits<double>::quiet_NaN();
+  return (crossings.back() - crossings[crossings.size() - usable]) / (usable - 1);
+}
+
 }  // namespace rmhb::integrators

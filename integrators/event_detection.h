@@ -39,6 +39,17 @@ std::vector<double> FindCrossings(const OdeSystem& system, const Eigen::VectorXd
                                   const IntegratorOptions& options = {},
                                   IntegrationResult* info = nullptr);
 
+// Period of an attracting limit cycle, the reference for self-excited
+// oscillators without a closed form (Van der Pol): the crossings of g in
+// `direction` from (0, y0) to t_end, the first `transient_crossings` dropped
+// (the approach to the cycle), and the mean spacing of the rest,
+// (last - first) / (count - 1), which divides the location error of each
+// crossing by the number of periods. NaN when fewer than two crossings
+// remain or the integration failed (then info, if given, says why).
+double LimitCyclePeriod(const OdeSystem& system, const Eigen::VectorXd& y0, double t_end,
+                        const EventFunction& g, int direction, int transient_crossings,
+                        const IntegratorOptions& options = {}, IntegrationResult* info = nullptr);
+
 }  // namespace rmhb::integrators
 
 #endif  // RMHB_INTEGRATORS_EVENT_DETECTION_H_

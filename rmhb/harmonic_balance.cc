@@ -183,6 +183,9 @@ HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& probl
       coarse.order = o;
       coarse.order_continuation = false;
       coarse.solver.acceptable_residual = 1e300;  // a truncated solve is only a guess
+      // Nor worth a Levenberg-Marquardt crawl when Newton fails on it (near
+      // the pendulum's separatrix that crawl was most of the time).
+      if (coarse.solver.method == SolverMethod::kAuto) coarse.solver.method = SolverMethod::kNewton;
       coarse.solver.step_tolerance = std::max(options.solver.step_tolerance, 1e-10);
       HarmonicBalanceSummary s = SolveAtOrder(problem, guess, coarse);
       if (s.solver.status == SolverStatus::kConverged ||
@@ -233,6 +236,13 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   o.tolerance = 0;
   HarmonicBalanceSummary current = SolveWithContinuation(problem, initial_guess, o);
   std::vector<int> tried = {o.order};
+  // Too low a start can have no solution near the physical one (the
+  // pendulum near its separatrix at N = 25): start higher rather than fail.
+  while (!current.converged() && 2 * o.order <= options.max_order && tried.size() < 4) {
+    o.order *= 2;
+    current = SolveWithContinuation(problem, initial_guess, o);
+    tried.push_back(o.order);
+  }
   auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {
     s.orders_tried = tried;
     if (s.solver.converged()) s.solver.status = SolverStatus::kNoConvergence;
@@ -254,8 +264,9 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
     // Aim a little below the tolerance; grow by 25% at least (a difference
     // of nearly equal orders says little) and at most double.
     const int predicted = PredictOrder(*current.solution, 0.1 * options.tolerance);
-    const int next = std::min(options.max_order,
-                              std::clamp(predicted + 2, o.order + std::max(2, o.order / 4), 2 * o.order));
+    const int least = o.order + std::max(2, o.order / 4);
+    const int next =
+        std::min(options.max_order, std::clamp(predicted + 2, least, std::max(least, 2 * o.order)));
     HarmonicBalanceOptions n = o;
     n.order = next;
     n.order_continuation = false;  // warm-started from the previous order

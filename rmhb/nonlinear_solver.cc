@@ -341,6 +341,12 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     // Slow progress at a tiny step is a least-squares floor, not a failure.
     if (stalled >= 3 && s.final_step <= 1e3 * options.step_tolerance * (1 + MaxAbs(*x))) break;
   }
+  if (method == SolverMethod::kNewton && s.reciprocal_condition == 0 && s.iterations == 0) {
+    // Converged at the start (a warm start from a lower order): J is the
+    // final Jacobian and the summary still owes its condition.
+    factorization.Factor(J);
+    s.reciprocal_condition = factorization.reciprocal_condition();
+  }
   if (options.estimate_condition) {
     if (method == SolverMethod::kNewton && factored) problem.Evaluate(*x, &F, &J);
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);

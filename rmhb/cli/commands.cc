@@ -207,7 +207,14 @@ int RunSolve(const SolveArgs& a) {
   out["message"] = summary.solver.message;
   out["method"] = ToString(options.rule);
   out["solver"] = ToString(summary.solver.method);
-  out["order"] = options.order;
+  out["order"] = summary.order;
+  if (summary.truncation_estimate >= 0)
+    out["order_selection"] = {{"tolerance", options.tolerance},
+                              {"orders", summary.orders_tried},
+                              {"estimate", Number(summary.truncation_estimate)}};
+  // null when not computed (no Newton factorisation, e.g. Levenberg-Marquardt).
+  out["reciprocal_condition"] =
+      summary.solver.reciprocal_condition > 0 ? Number(summary.solver.reciprocal_condition) : json(nullptr);
   out["samples"] = summary.samples.size() == 1 ? json(summary.samples[0]) : json(summary.samples);
   out["alias_free_samples"] = summary.alias_free_samples.size() == 1 ? json(summary.alias_free_samples[0]) : json(summary.alias_free_samples);
   out["sampling"] = summary.sampling;
@@ -298,6 +305,15 @@ int RunSolve(const SolveArgs& a) {
       std::printf("residual     %.3e after %d iterations (%s)\n", summary.solver.final_residual,
                   summary.solver.iterations, ToString(summary.solver.method));
       std::printf("time         %.3f ms\n", summary.seconds * 1e3);
+      if (summary.truncation_estimate >= 0) {
+        std::printf("order        %d %s --tol %g (orders", summary.order,
+                    converged ? "chosen for" : "reached, short of", options.tolerance);
+        for (int o : summary.orders_tried) std::printf(" %d", o);
+        std::printf("), estimated truncation error %.3e\n", summary.truncation_estimate);
+      }
+      if (summary.solver.reciprocal_condition > 0)
+        std::printf("condition    1/cond(J) ~ %.2e (last factorised Jacobian)\n",
+                    summary.solver.reciprocal_condition);
       if (converged) {
         for (double w : sol.frequencies())
           std::printf("frequency    %.17g  (period %.17g)\n", w, 2 * M_PI / w);

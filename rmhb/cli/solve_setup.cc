@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -106,8 +107,15 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
   app->add_option("--max-iterations", a->max_iterations, "Nonlinear solver iteration limit (default 100)")
       ->check(CLI::Range(1, 100000));
   app->add_flag("--allow-aliasing", a->allow_aliasing, "Accept M below the alias-free bound");
-  app->add_option("--tolerance", a->tolerance,
+  app->add_option("--residual-tol", a->residual_tol,
                   "Converged when max|F| <= this (default 1e-15; finite and > 0)");
+  app->add_option("--tol", a->tol,
+                  "Choose the order automatically: from --order (or the model's default), "
+                  "raise it warm-started until two successive orders agree to TOL (relative "
+                  "frequency, scaled coefficients); reports the orders tried and the estimate. "
+                  "Not reached by --max-order: exit 3");
+  app->add_option("--max-order", a->max_order, "Highest order --tol may choose (default 5000)")
+      ->check(CLI::Range(1, 20000));
 }
 
 ProblemSource LoadSolveProblem(const SolveSettings& a, const std::map<std::string, double>& overrides) {
@@ -121,10 +129,12 @@ ProblemSource LoadSolveProblem(const SolveSettings& a, const std::map<std::strin
 PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, double>& overrides) {
   if ((a.order_given || a.order != -1) && a.order < 1)
     throw std::invalid_argument("--order must be >= 1 (got " + std::to_string(a.order) + ")");
-  if (!(a.tolerance > 0) || !std::isfinite(a.tolerance))
-    throw std::invalid_argument("--tolerance must be finite and > 0 (got " + std::to_string(a.tolerance) + ")");
+  if (!(a.residual_tol > 0) || !std::isfinite(a.residual_tol))
+    throw std::invalid_argument("--residual-tol must be finite and > 0 (got " + std::to_string(a.residual_tol) + ")");
   if ((a.samples_given || a.samples != -1) && a.samples < 1)
     throw std::invalid_argument("--samples must be >= 1 (got " + std::to_string(a.samples) + ")");
+  if (!(a.tol >= 0) || !std::isfinite(a.tol))
+    throw std::invalid_argument("--tol must be a finite number >= 0 (got " + std::to_string(a.tol) + ")");
   ProblemSource source = LoadSolveProblem(a, overrides);
   HarmonicBalanceProblem& problem = source.problem;
   const int bases = static_cast<int>(problem.frequencies.size());
@@ -134,9 +144,11 @@ PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, d
   options.rule = ParseSamplingRule(a.method);
   if (a.samples > 0) options.samples.assign(bases, a.samples);
   options.allow_aliasing = a.allow_aliasing;
+  options.tolerance = a.tol;
+  options.max_order = std::max(a.max_order, options.order);
   options.solver.method = ParseSolverMethod(a.solver);
   options.solver.max_iterations = a.max_iterations;
-  options.solver.residual_tolerance = a.tolerance;
+  options.solver.residual_tolerance = a.residual_tol;
   options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;
   options.quasi_periodic_sampling =
       a.sampling == "gcd" ? QuasiPeriodicSampling::kGcd : QuasiPeriodicSampling::kTorus;

@@ -28,7 +28,7 @@ struct SolveSettings {
   int order = -1;                // -1: the model's default
   int samples = -1;              // -1: by the method's rule
   bool order_given = false, samples_given = false;  // so that an explicit -1 is refused
-  double tolerance = 1e-15;      // max|F| at convergence
+  double residual_tol = 1e-15;   // max|F| at convergence
   std::string method = "rhb";
   std::string solver = "auto";
   int max_iterations = 100;
@@ -37,6 +37,8 @@ struct SolveSettings {
   std::string sampling = "torus";
   std::string shape = "diamond";
   bool shape_given = false;
+  double tol = 0;  // > 0: choose the order automatically (HarmonicBalanceOptions::tolerance)
+  int max_order = 5000;  // the order selection's limit
 };
 
 // The model positional argument and the options above.

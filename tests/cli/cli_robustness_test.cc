@@ -108,7 +108,7 @@ const std::vector<std::string>& Pool() {
       "=1", "--frequencies", "?0", "1,2,3", "?nan", "2.3,?", "--validate", "--json", "--quiet",
       "--method", "aft", "hdhb", "--solver", "newton", "tikhonov", "--max-iterations", "1",
       "999999999", "99999999999999", "--allow-aliasing", "--eval", "0:1:2", "0:-1:2", "--csv",
-      "/nonexistent/dir/x.csv", "--basis", "box", "--sampling", "gcd", "--tolerance", "1e-300",
+      "/nonexistent/dir/x.csv", "--basis", "box", "--sampling", "gcd", "--residual-tol", "1e-300",
       "--t-end", "--transient", "--signal", "examples/models/pendulum.yaml", "vanderpol",
       "asym-pendulum", "x''", "\xff\xfe", "--help", "--version", "solve", "recast", "identify"};
   return pool;
@@ -204,8 +204,8 @@ TEST(CliOptions, InvalidValuesAreRejectedClearly) {
       {{"solve", "pendulum", "--order", "-1"}, 2, "--order must be >= 1 (got -1)"},
       {{"solve", "pendulum", "--order", "0"}, 2, "--order must be >= 1 (got 0)"},
       {{"solve", "pendulum", "--samples", "-1"}, 2, "--samples must be >= 1 (got -1)"},
-      {{"solve", "pendulum", "--tolerance", "nan"}, 2, "--tolerance must be finite and > 0"},
-      {{"solve", "pendulum", "--tolerance", "-1e-12"}, 2, "--tolerance must be finite and > 0"},
+      {{"solve", "pendulum", "--residual-tol", "nan"}, 2, "--residual-tol must be finite and > 0"},
+      {{"solve", "pendulum", "--residual-tol", "-1e-12"}, 2, "--residual-tol must be finite and > 0"},
       {{"solve", "pendulum", "--set", "theta0=inf"}, 2, "--set theta0: value must be finite"},
       {{"solve", "pendulum", "--set", "theta0=nan"}, 2, "--set theta0: value must be finite"},
       {{"solve", "examples/models/pendulum.yaml", "--set", "theta0=-inf"}, 2,

@@ -71,29 +71,74 @@ INSTANTIATE_TEST_SUITE_P(
 namespace rmhb {
 namespace {
 
-// Van der Pol eps = 10 (relaxation): the period from harmonic balance against
-// the period CVODE measures between successive maxima of x once the orbit has
-// settled on the limit cycle (event detection polished to round-off).
-TEST(VanDerPolRelaxation, PeriodMatchesTightCvodeReference) {
-  const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", 10.0}});
+// Van der Pol relaxation: the period CVODE measures between successive
+// maxima of x once the orbit has settled on the limit cycle (BDF at the
+// tightest practical tolerance, event detection polished to round-off,
+// averaged over ten periods), the reference for harmonic balance.
+double CvodePeriod(double eps) {
+  const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", eps}});
   integrators::OdeSystem ode{2, e.original.rhs};
   integrators::IntegratorOptions io;
-  io.relative_tolerance = 1e-14;
-  io.absolute_tolerance = 1e-16;
-  const auto maxima = integrators::FindCrossings(
-      ode, Eigen::Vector2d(2.0, 0.0), 0.0, 12 * 19.1,
-      [](double, const double* y) { return y[1]; }, -1, io);
-  ASSERT_GE(maxima.size(), 8u);
+  io.method = integrators::IntegratorOptions::Method::kBdf;
+  io.relative_tolerance = integrators::kTightestRelativeTolerance;
+  io.absolute_tolerance = 1e-17;
   // x' crosses zero downwards only at the maxima of x: one per period.
-  const double cvode_period = maxima[maxima.size() - 1] - maxima[maxima.size() - 2];
-  EXPECT_NEAR(cvode_period, 19.07836956693901407, 1e-9);  // CVODE itself, sanity
+  return integrators::LimitCyclePeriod(ode, Eigen::Vector2d(2.0, 0.0),
+                                       12 * 2 * M_PI / e.guess.frequencies()[0],
+                                       [](double, const double* y) { return y[1]; }, -1, 2, io);
+}
 
+TEST(VanDerPolRelaxation, CvodeReferenceMatchesThePublishedPeriod) {
+  // ../shared/ref/periodic.json (arbitrary-precision Taylor integration).
+  EXPECT_NEAR(CvodePeriod(10.0), 19.07836956693901407, 2e-11);
+}
+
+// The simulated starting guess survives the stiffness of eps = 50 (its RK4
+// step used to blow up) and starts close to the limit cycle.
+TEST(VanDerPolRelaxation, StiffGuessFindsThePeriod) {
+  const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", 50.0}});
+  const double guess_period = 2 * M_PI / e.guess.frequencies()[0];
+  EXPECT_NEAR(guess_period, CvodePeriod(50.0), 1e-3 * guess_period);
+  EXPECT_NEAR(e.guess.Value(0, 0.0), 2.0, 0.05);  // the guess starts at a maximum of x
+}
+
+// eps = 20 (N ~ 1000, 3 s) and 50 (N ~ 6000, minutes): tests/benchmarks/rhb_benchmark.
+TEST(VanDerPolRelaxation, PeriodMatchesTightCvodeReference) {
+  struct Case {
+    double eps;
+    int order;
+  };
+  for (const Case& c : {Case{5.0, 100}, Case{10.0, 300}}) {
+    const double reference = CvodePeriod(c.eps);
+    const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", c.eps}});
+    HarmonicBalanceOptions o;
+    o.order = c.order;
+    const HarmonicBalanceSummary s = SolveHarmonicBalance(e.problem, e.guess, o);
+    ASSERT_TRUE(s.converged()) << s.FullReport();
+    EXPECT_NEAR(2 * M_PI / s.solution->frequencies()[0], reference, 1e-9) << "eps = " << c.eps;
+    // Truncation shows at a lower order: the comparison can fail.
+    o.order = c.order / 2;
+    const HarmonicBalanceSummary coarse = SolveHarmonicBalance(e.problem, e.guess, o);
+    ASSERT_TRUE(coarse.solution.has_value());
+    EXPECT_GT(std::abs(2 * M_PI / coarse.solution->frequencies()[0] - reference), 1e-9) << c.eps;
+  }
+}
+
+// --tol on a relaxation oscillation: the chosen order's period is within the
+// tolerance (relative) of CVODE's, and the estimate is not below the error.
+TEST(VanDerPolRelaxation, OrderSelectionMeetsTheToleranceAgainstCvode) {
+  const double reference = CvodePeriod(5.0);
+  const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", 5.0}});
   HarmonicBalanceOptions o;
-  o.order = 340;
+  o.order = 20;
+  o.tolerance = 1e-10;
   const HarmonicBalanceSummary s = SolveHarmonicBalance(e.problem, e.guess, o);
   ASSERT_TRUE(s.converged()) << s.FullReport();
-  const double hb_period = 2 * M_PI / s.solution->frequencies()[0];
-  EXPECT_NEAR(hb_period, cvode_period, 1e-10) << "CVODE " << cvode_period;
+  const double error = std::abs(2 * M_PI / s.solution->frequencies()[0] - reference) / reference;
+  EXPECT_LE(error, o.tolerance) << "N = " << s.order;
+  EXPECT_LE(s.truncation_estimate, o.tolerance);
+  // CVODE's own relative accuracy here is ~1e-12: the honesty check needs margin.
+  EXPECT_GE(s.truncation_estimate + 2e-12, error) << "N = " << s.order;
 }
 
 }  // namespace

@@ -1,0 +1,68 @@
+// `rmhb solve --tol`: automatic order selection and the condition estimate
+// as a script sees them (exit codes, JSON fields, messages).
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out;
+};
+
+CliRun Rmhb(const std::string& args, bool with_stderr = true) {
+  const std::string cmd = std::string(RMHB_CLI) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+TEST(CliTol, ChoosesTheOrderAndReportsTheEstimate) {
+  const CliRun run = Rmhb("solve relativistic --set beta=0.95 --order 25 --tol 1e-10 --json", false);
+  ASSERT_EQ(run.code, 0) << run.out;
+  const auto j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["status"], "converged");
+  const auto& selection = j["order_selection"];
+  EXPECT_EQ(selection["tolerance"], 1e-10);
+  EXPECT_EQ(selection["orders"][0], 25);
+  EXPECT_EQ(selection["orders"].back(), j["order"]);
+  EXPECT_LE(selection["estimate"].get<double>(), 1e-10);
+  EXPECT_LE(std::abs(j["reference"]["amplitude_error"].get<double>()), 1e-10);
+  EXPECT_LE(std::abs(j["reference"]["frequency_error"].get<double>()), 1e-10);
+  EXPECT_GT(j["reciprocal_condition"].get<double>(), 0);
+  EXPECT_LT(j["reciprocal_condition"].get<double>(), 1);
+}
+
+TEST(CliTol, ReciprocalConditionIsNullWithoutANewtonFactorisation) {
+  const CliRun run = Rmhb("solve duffing --order 10 --solver lm --json", false);
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_TRUE(nlohmann::json::parse(run.out)["reciprocal_condition"].is_null());
+}
+
+TEST(CliTol, TextReportNamesTheChosenOrder) {
+  const CliRun run = Rmhb("solve pendulum --set theta0=3 --tol 1e-10");
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("chosen for --tol 1e-10"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("estimated truncation error"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("1/cond(J)"), std::string::npos) << run.out;
+}
+
+TEST(CliTol, NegativeOrNanToleranceIsBadInput) {
+  for (const char* tol : {"-1e-10", "nan", "inf", "abc"}) {
+    const CliRun run = Rmhb(std::string("solve pendulum --tol ") + tol);
+    EXPECT_TRUE(run.code == 2 || (std::string(tol) == "abc" && run.code == 1)) << tol << ": " << run.code;
+    EXPECT_NE(run.out.find("--tol"), std::string::npos) << run.out;
+  }
+}
+
+}  // namespace
