@@ -185,8 +185,7 @@ void CollocationResidual::EvaluateSamples(const CompiledEquation& eq, int slot, 
 bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                    Eigen::MatrixXd* jacobian) {
   if (kept_unknowns_.empty()) return EvaluateFull(x, residual, jacobian);
-  for (int i = 0; i < num_unknowns_; ++i) full_x_(kept_unknowns_[i]) = x(i);
-  const bool ok = EvaluateFull(full_x_, &full_residual_, jacobian ? &full_jacobian_ : nullptr);
+  const bool ok = EvaluateFull(Full(x), &full_residual_, jacobian ? &full_jacobian_ : nullptr);
   residual->resize(num_residuals_);
   for (int r = 0; r < num_residuals_; ++r) (*residual)(r) = full_residual_(kept_residuals_[r]);
   if (jacobian) {
@@ -198,13 +197,10 @@ bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* re
   return ok;
 }
 
-bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
-                                       Eigen::MatrixXd* jacobian) {
+void CollocationResidual::SampleSlots(const Eigen::VectorXd& x) {
   std::vector<double> w;
   Frequencies(x, &w);
   for (int k = 0; k < basis_.size(); ++k) rates_[k] = basis_.Frequency(k, w);
-
-  // Samples of every slot: z_j = E X_j, z_j' = E D(w) X_j.
   for (size_t s = 0; s < slots_.size(); ++s) {
     const double* X = x.data() + slots_[s].variable * C_;
     if (slots_[s].derivative == 0) {
@@ -218,6 +214,35 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
       transform_->Synthesize(coef_.data(), slot_samples_[s].data());
     }
   }
+}
+
+const Eigen::VectorXd& CollocationResidual::Full(const Eigen::VectorXd& x) {
+  if (kept_unknowns_.empty()) return x;
+  for (int i = 0; i < num_unknowns_; ++i) full_x_(kept_unknowns_[i]) = x(i);
+  return full_x_;
+}
+
+void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x, Eigen::MatrixXd* value_part,
+                                             Eigen::MatrixXd* derivative_part) {
+  SampleSlots(Full(x));
+  value_part->setZero(n_ * C_, n_ * C_);
+  derivative_part->setZero(n_ * C_, n_ * C_);
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    for (int s : eq.slots) {
+      EvaluateSamples(eq, s, work_.data());
+      transform_->Analyze(work_.data());
+      block_.setZero();
+      transform_->AddMultiplicationMatrix(1.0, nullptr, block_);
+      Eigen::MatrixXd& part = slots_[s].derivative ? *derivative_part : *value_part;
+      part.block(static_cast<long>(i) * C_, slots_[s].variable * C_, C_, C_) += block_;
+    }
+  }
+}
+
+bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
+                                       Eigen::MatrixXd* jacobian) {
+  SampleSlots(x);
 
   residual->resize(full_residuals_);
   if (jacobian) jacobian->setZero(full_residuals_, full_unknowns_);

@@ -58,6 +58,15 @@ class CollocationResidual : public NonlinearProblem {
                        const std::vector<double>& frequencies) const;
   void Unpack(const Eigen::VectorXd& x, Eigen::MatrixXd* coefficients,
               std::vector<double>* frequencies) const;
+  // The linearisation about the solver's vector x split for Hill's method
+  // (rmhb/hill_stability.h): a perturbation dz of the coefficients changes
+  // the equations by value_part dz + derivative_part dz', where
+  //   value_part      = E* diag(dg/dz) E,   derivative_part = E* diag(dg/dz') E,
+  // square over the full coefficient unknowns (frequencies excluded), with the
+  // constant row of every equation (balanced or not) so that the blocks stay
+  // square. The solver's Jacobian is value_part + derivative_part D(w).
+  void LinearizationParts(const Eigen::VectorXd& x, Eigen::MatrixXd* value_part,
+                          Eigen::MatrixXd* derivative_part);
   // Unknowns and residuals before the symmetry reduction.
   int num_full_unknowns() const { return full_unknowns_; }
   int num_full_residuals() const { return full_residuals_; }
@@ -84,6 +93,10 @@ class CollocationResidual : public NonlinearProblem {
   bool EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                     Eigen::MatrixXd* jacobian);
   void SetUpSymmetries();
+  // The reduced vector on the full unknowns (x itself without symmetries).
+  const Eigen::VectorXd& Full(const Eigen::VectorXd& x);
+  // Samples of every slot, z_j = E X_j and z_j' = E D(w) X_j, for full x.
+  void SampleSlots(const Eigen::VectorXd& x);
   // p = sum over terms of d(term)/d(slot), or the whole equation if slot < 0.
   void EvaluateSamples(const CompiledEquation& eq, int slot, double* out) const;
 

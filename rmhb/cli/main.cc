@@ -12,6 +12,7 @@
 #include "rmhb/cli/continuation_command.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/identify_command.h"
+#include "rmhb/cli/montecarlo_command.h"
 #include "rmhb/model/model_error.h"
 
 int main(int argc, char** argv) {
@@ -46,6 +47,12 @@ int main(int argc, char** argv) {
                   "sampled signal (--signal FILE.csv) or from a model's integrated trajectory.");
   AddIdentifyOptions(identify_cmd, &identify);
 
+  MonteCarloArgs montecarlo;
+  CLI::App* montecarlo_cmd = app.add_subcommand(
+      "montecarlo", "Random starts solved by RHB and HDHB: the distinct solutions each finds, classified\n"
+                    "physical-stable, physical-unstable or non-physical (the paper's Table 1).");
+  AddMonteCarloOptions(montecarlo_cmd, &montecarlo);
+
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;
   list_cmd->add_flag("--json", list_json, "Machine-readable output");
@@ -67,6 +74,7 @@ int main(int argc, char** argv) {
     if (*list_cmd) return RunList(list_json);
     if (*recast_cmd) return RunRecast(recast);
     if (*identify_cmd) return RunIdentify(identify);
+    if (*montecarlo_cmd) return RunMonteCarlo(montecarlo);
   } catch (const rmhb::model::ModelError& e) {
     std::fprintf(stderr, "rmhb: error: %s\n", e.what());
     return kExitBadInput;
