@@ -25,6 +25,16 @@ const char* ToString(ContinuationStatus status) {
   return "unknown";
 }
 
+const char* ToString(PointStability stability) {
+  switch (stability) {
+    case PointStability::kStable: return "stable";
+    case PointStability::kUnstable: return "unstable";
+    case PointStability::kNeutral: return "neutral";
+    case PointStability::kUnknown: break;
+  }
+  return "unknown";
+}
+
 std::string ContinuationOptions::IsValid() const {
   for (double s : {initial_step, max_step, min_step})
     if (!(s >= 0) || !std::isfinite(s)) return "steps must be finite and >= 0 (0: default)";
@@ -38,6 +48,7 @@ std::string ContinuationOptions::IsValid() const {
   if (max_corrector_iterations < 1) return "max_corrector_iterations must be >= 1";
   if (!(max_turn > 0 && max_turn <= M_PI)) return "max_turn must be in (0, pi]";
   if (max_points < 2) return "max_points must be >= 2";
+  if (max_stability_unknowns < 0) return "max_stability_unknowns must be >= 0";
   if (!(max_seconds >= 0)) return "max_seconds must be >= 0";
   if (!(fold_tolerance > 0)) return "fold_tolerance must be > 0";
   return harmonic_balance.IsValid();
@@ -59,14 +70,15 @@ std::string ContinuationSummary::FullReport() const {
   std::ostringstream out;
   out << BriefReport() << "\n";
   if (!message.empty()) out << "  " << message << "\n";
+  if (!stability_note.empty()) out << "  stability unknown: " << stability_note << "\n";
   out << "  order " << order << ", samples";
   for (int m : samples) out << " " << m;
   out << "\n";
   char line[200];
   for (const ContinuationPoint& p : points) {
-    std::snprintf(line, sizeof line, "  %s = %-22.16g w = %-20.15g max|x| = %-20.15g max|F| = %.1e%s\n",
-                  parameter.c_str(), p.parameter, p.solution.frequencies()[0],
-                  p.solution.Amplitude(0), p.residual, p.fold ? "  fold" : "");
+    std::snprintf(line, sizeof line, "  %s = %-22.16g w = %-20.15g max|F| = %.1e  %-8s%s\n",
+                  parameter.c_str(), p.parameter, p.solution.frequencies()[0], p.residual,
+                  ToString(p.stability), p.fold ? "  fold" : "");
     out << line;
   }
   return out.str();
@@ -100,6 +112,11 @@ class ParameterizedResidual {
 
   // The residual at lambda; nullptr when the model refuses the value.
   CollocationResidual* At(double lambda) { return Get(&current_, lambda); }
+  // The problem at lambda (after At(lambda) has succeeded).
+  const HarmonicBalanceProblem& ProblemAt(double lambda) {
+    At(lambda);
+    return *current_.problem;
+  }
 
   // F(x, lambda) and, when `jacobian` is given, [F_x F_lambda] (m x (n+1)).
   bool Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* F,
@@ -276,6 +293,30 @@ class Tracer {
         y(n()), HarmonicSolution(f_.basis(), w, coefficients, variables_), F.lpNorm<Eigen::Infinity>(),
         iterations, arclength_, tangent_parameter, fold, summary_.num_folds});
     summary_.arclength = arclength_;
+    if (options_.stability) Classify(&summary_.points.back());
+  }
+  void Classify(ContinuationPoint* p) {
+    if (hill_refused_) return;
+    if (n() > options_.max_stability_unknowns) {
+      hill_refused_ = true;
+      summary_.stability_note = "not computed: " + std::to_string(n()) + " unknowns, over max_stability_unknowns = " +
+                                std::to_string(options_.max_stability_unknowns);
+      return;
+    }
+    try {
+      const HillStabilityReport hill = HillStability(f_.ProblemAt(p->parameter), p->solution, options_.hill);
+      const double margin = options_.hill.margin * p->solution.frequencies()[0];
+      p->max_real_part = hill.max_real_part;
+      p->stability = hill.stable                       ? PointStability::kStable
+                     : hill.max_real_part > margin     ? PointStability::kUnstable
+                                                       : PointStability::kNeutral;
+    } catch (const std::invalid_argument& e) {
+      // Outside the method's scope: the same for every point.
+      hill_refused_ = true;
+      summary_.stability_note = e.what();
+    } catch (const std::runtime_error& e) {
+      summary_.stability_note = e.what();
+    }
   }
   // False (with the status set) when the point or time budget is spent.
   bool WithinBudget() {
@@ -323,6 +364,7 @@ class Tracer {
   Clock::time_point start_;
   SolverOptions corrector_;
   double direction_ = 1, step_ = 0, max_step_ = 0, min_step_ = 0, arclength_ = 0;
+  bool hill_refused_ = false;
   Eigen::VectorXd last_y_;
 };
 

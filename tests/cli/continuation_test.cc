@@ -48,8 +48,11 @@ TEST(CliContinuation, DuffingFrequencyResponseThroughBothFolds) {
   ASSERT_EQ(branch.size(), j["points"].get<size_t>());
   EXPECT_EQ(branch.front()["parameter"], 0.5);
   EXPECT_EQ(branch.back()["parameter"], 3.0);
-  int marked = 0;
+  int marked = 0, folds_passed = 0;
   for (const auto& p : branch) {
+    // Hill's method: the middle branch, between the folds, is the unstable one.
+    if (p["fold"].get<bool>()) ++folds_passed;
+    else EXPECT_EQ(p["stability"], folds_passed == 1 ? "unstable" : "stable") << p["parameter"];
     for (const char* key : {"parameter", "frequencies", "amplitude", "residual", "fold", "stability"})
       EXPECT_TRUE(p.contains(key)) << key;
     EXPECT_LT(p["residual"].get<double>(), 1e-12);

@@ -114,6 +114,11 @@ TEST(Continuation, DuffingPseudoArclengthPassesBothFoldsAtTheIndependentFrequenc
     // Between the folds the branch runs backwards in w.
     if (!p.fold) {
       EXPECT_EQ(p.tangent_parameter < 0, p.folds_before == 1) << p.parameter;
+      // ... and is the unstable (saddle) one, by Hill's method.
+      EXPECT_EQ(p.stability, p.folds_before == 1 ? PointStability::kUnstable : PointStability::kStable)
+          << p.parameter;
+    } else {
+      EXPECT_LT(std::abs(p.max_real_part), 1e-6) << p.parameter;  // a multiplier crosses 1 here
     }
   }
 }
