@@ -315,7 +315,9 @@ class Tracer {
       hill_refused_ = true;
       summary_.stability_note = e.what();
     } catch (const std::runtime_error& e) {
+      // QZ did not converge: likely so at the next points too, and costly.
       summary_.stability_note = e.what();
+      hill_refused_ = ++hill_failures_ >= 2;
     }
   }
   // False (with the status set) when the point or time budget is spent.
@@ -365,6 +367,7 @@ class Tracer {
   SolverOptions corrector_;
   double direction_ = 1, step_ = 0, max_step_ = 0, min_step_ = 0, arclength_ = 0;
   bool hill_refused_ = false;
+  int hill_failures_ = 0;
   Eigen::VectorXd last_y_;
 };
 

@@ -83,10 +83,12 @@ struct ContinuationOptions {
   // Stability of every point by Hill's method (rmhb/hill_stability.h): one
   // generalised eigenproblem (QZ, O(n^3) with a large constant) of the size
   // of the Jacobian per point, so it is skipped above max_stability_unknowns
-  // (~1 ms at 60 unknowns, ~1 s at 480). Outside its scope (quasi-periodic,
-  // pinned auxiliaries) points stay kUnknown too; the summary says why.
+  // (measured: ~3 ms per point at 62 unknowns, about the cost of the rest of
+  // the step; ~100 ms at 200). Outside its scope (quasi-periodic, pinned
+  // auxiliaries) or after its eigensolver failed twice, points stay
+  // kUnknown too; the summary says why.
   bool stability = true;
-  int max_stability_unknowns = 300;
+  int max_stability_unknowns = 200;
   HillOptions hill;
 
   std::string IsValid() const;       // empty when valid

@@ -73,7 +73,7 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
       ->check(CLI::Range(1, 1000000));
   app->add_option("--max-step", a->max_step,
                   "Continuation: largest step, arclength in (coefficients, parameter) or the "
-                  "parameter with --natural (default |b - a| / 10)")
+                  "parameter with --natural (default |b - a| / 10, or the first step if larger)")
       ->check(CLI::PositiveNumber);
   app->add_flag("--natural", a->natural,
                 "Continuation: natural-parameter steps (stop at a fold) instead of "
@@ -102,8 +102,9 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   options.method = a.natural ? ContinuationMethod::kNatural : ContinuationMethod::kPseudoArclength;
   options.harmonic_balance = prepared.options;
   options.initial_step = std::abs(range.to - range.from) / a.steps;
-  options.max_step = a.max_step;
-  if (a.max_step > 0) options.initial_step = std::min(options.initial_step, a.max_step);
+  options.max_step = a.max_step > 0 ? a.max_step
+                                    : std::max(options.initial_step, std::abs(range.to - range.from) / 10);
+  options.initial_step = std::min(options.initial_step, options.max_step);
   const ContinuationSummary summary = TraceBranch(problem, prepared.guess, options);
 
   std::vector<PointReport> reports;
