@@ -56,10 +56,11 @@ std::string ContinuationOptions::IsValid() const {
 
 std::string ContinuationSummary::BriefReport() const {
   std::ostringstream out;
-  out << ToString(method) << " continuation in " << parameter;
-  if (!points.empty())
-    out << " from " << points.front().parameter << " to " << points.back().parameter;
-  out << ": " << ToString(status) << ", " << points.size() << " points";
+  out << ToString(method) << " continuation in " << parameter << " from " << start << " to " << end
+      << ": " << ToString(status);
+  if (status != ContinuationStatus::kCompleted && !points.empty())
+    out << " at " << parameter << " = " << points.back().parameter;
+  out << ", " << points.size() << " points";
   if (method == ContinuationMethod::kPseudoArclength) out << ", " << num_folds << " fold(s)";
   out << ", " << accepted_steps << " steps (" << rejected_steps << " refused), arclength "
       << arclength << ", " << seconds * 1e3 << " ms";
@@ -495,6 +496,8 @@ ContinuationSummary TraceBranch(const ContinuationProblem& problem, const Harmon
   ContinuationSummary summary;
   summary.method = options.method;
   summary.parameter = problem.parameter;
+  summary.start = problem.start;
+  summary.end = problem.end;
 
   // The first point: a full solve (order continuation, fallbacks) from the guess.
   const HarmonicBalanceProblem first = problem.build(problem.start);

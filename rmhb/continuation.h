@@ -131,6 +131,7 @@ struct ContinuationSummary {
   ContinuationStatus status = ContinuationStatus::kStartFailed;
   ContinuationMethod method = ContinuationMethod::kPseudoArclength;
   std::string parameter;
+  double start = 0, end = 0;   // the range asked for
   std::string message;
   std::string stability_note;  // why stability is unknown, if it is
   std::vector<ContinuationPoint> points;

@@ -208,7 +208,7 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
           std::snprintf(text, sizeof text, "%s%.15g", w.empty() ? "" : ",", v);
           w += text;
         }
-        std::printf("%-22.16g %-20s %-20.15g %-9.1e %-9s", p.parameter, w.c_str(), reports[i].peak,
+        std::printf("%-22.15g %-20s %-20.15g %-9.1e %-9s", p.parameter, w.c_str(), reports[i].peak,
                     p.residual, reports[i].stability.c_str());
         if (solve.validate) std::printf(" %-10.1e", reports[i].validation_error);
         if (has_reference) std::printf(" %.1e", reports[i].reference_error());
