@@ -83,8 +83,8 @@ struct ContinuationOptions {
   // Stability of every point by Hill's method (rmhb/hill_stability.h): one
   // generalised eigenproblem (QZ, O(n^3) with a large constant) of the size
   // of the Jacobian per point, so it is skipped above max_stability_unknowns
-  // (measured: ~3 ms per point at 62 unknowns, about the cost of the rest of
-  // the step; ~100 ms at 200). Outside its scope (quasi-periodic, pinned
+  // (measured on the Duffing branch at 62 unknowns: ~3 ms per point, twice
+  // the rest of the step; ~100 ms at 200). Outside its scope (quasi-periodic, pinned
   // auxiliaries) or after its eigensolver failed twice, points stay
   // kUnknown too; the summary says why.
   bool stability = true;

@@ -78,6 +78,9 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
   app->add_flag("--natural", a->natural,
                 "Continuation: natural-parameter steps (stop at a fold) instead of "
                 "pseudo-arclength (passes folds)");
+  app->add_flag("--no-stability", a->no_stability,
+                "Continuation: skip Hill's method per point (one eigenproblem of the Jacobian's "
+                "size each; computed by default up to 200 unknowns)");
 }
 
 int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
@@ -101,6 +104,7 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   ContinuationOptions options;
   options.method = a.natural ? ContinuationMethod::kNatural : ContinuationMethod::kPseudoArclength;
   options.harmonic_balance = prepared.options;
+  options.stability = !a.no_stability;
   options.initial_step = std::abs(range.to - range.from) / a.steps;
   options.max_step = a.max_step > 0 ? a.max_step
                                     : std::max(options.initial_step, std::abs(range.to - range.from) / 10);
