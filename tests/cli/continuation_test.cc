@@ -90,6 +90,12 @@ TEST(CliContinuation, TextOutputMarksFolds) {
   EXPECT_EQ(folds, 2u) << r.out;
 }
 
+TEST(CliContinuation, StabilityCanBeSkipped) {
+  const auto j = Json("solve duffing --set F=0.5 --order 10 --continue w=1:1.2 --no-stability --json");
+  EXPECT_EQ(j["status"], "completed");
+  for (const auto& p : j["branch"]) EXPECT_EQ(p["stability"], "unknown");
+}
+
 TEST(CliContinuation, NaturalContinuationStopsAtAFoldWithExitCode3) {
   const CliRun r = Cli("solve duffing --set F=0.5 --order 12 --natural --continue w=1.5:3");
   EXPECT_EQ(r.code, 3) << r.out;
