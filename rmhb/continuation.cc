@@ -284,7 +284,9 @@ class Tracer {
       arclength_ += std::hypot((y.head(n()) - last_y_.head(n())).norm(), y(n()) - last.parameter);
     }
     last_y_ = y;
-    CollocationResidual* r = f_.At(y(n()));  // evaluated there just before: never refused
+    CollocationResidual* r = f_.At(y(n()));
+    // Evaluated there by the corrector, or at the range's end within an ulp.
+    if (!r) throw std::runtime_error("the model refuses a converged point: " + f_.refusal());
     Eigen::MatrixXd coefficients;
     std::vector<double> w;
     r->Unpack(y.head(n()), &coefficients, &w);
