@@ -219,6 +219,34 @@ TEST(Continuation, PseudoArclengthOnAnOverdeterminedConservativeProblem) {
   }
 }
 
+TEST(Continuation, QuasiPeriodicBranchOnTheTorusEndsOnTheDirectSolve) {
+  // Duffing forced at 0.7 and 1.1 (two known bases), first tone's amplitude
+  // from 0.5 to 1.5: every point is a torus; the last one is the solution a
+  // direct solve at F1 = 1.5 finds from the example's own guess.
+  ContinuationProblem problem;
+  problem.parameter = "F1";
+  problem.start = 0.5;
+  problem.end = 1.5;
+  problem.build = [](double F1) { return examples::BuildExample("duffing-2tone", {{"F1", F1}}).problem; };
+  const examples::ExampleSetup start = examples::BuildExample("duffing-2tone", {{"F1", 0.5}});
+  ContinuationOptions options;
+  options.harmonic_balance.order = 4;
+  options.harmonic_balance.basis_for_order = start.basis_for_order;
+  const ContinuationSummary s = TraceBranch(problem, start.guess, options);
+  ASSERT_TRUE(s.completed()) << s.FullReport();
+  EXPECT_GE(s.points.size(), 5u);
+  EXPECT_EQ(s.stability_note, "Hill's method: periodic solutions only (one base frequency)");
+  for (const ContinuationPoint& p : s.points) {
+    EXPECT_EQ(p.solution.frequencies(), (std::vector<double>{0.7, 1.1}));
+    EXPECT_LT(p.residual, 1e-13);
+  }
+  const examples::ExampleSetup end = examples::BuildExample("duffing-2tone", {{"F1", 1.5}});
+  const HarmonicBalanceSummary direct = SolveHarmonicBalance(end.problem, end.guess, options.harmonic_balance);
+  ASSERT_TRUE(direct.converged());
+  EXPECT_LT((s.points.back().solution.coefficients() - direct.solution->coefficients()).cwiseAbs().maxCoeff(),
+            1e-12);
+}
+
 TEST(Continuation, AValueOutsideTheModelsDomainEndsTheTraceWithItsReason) {
   ContinuationProblem problem;
   problem.parameter = "beta";
