@@ -474,8 +474,10 @@ void Tracer::PseudoArclength(const Eigen::VectorXd& x0) {
     Add(trial, report.iterations, tangent(n()), false);
     if (direction_ * (lambda - problem_.start) < 0) {
       summary_.status = ContinuationStatus::kLeftRange;
-      summary_.message = "the branch turned back and left the range through " + problem_.parameter +
-                         " = " + std::to_string(problem_.start);
+      std::ostringstream msg;
+      msg << "the branch turned back and left the range through " << problem_.parameter << " = "
+          << problem_.start;
+      summary_.message = msg.str();
       return;
     }
     y = trial;

@@ -90,6 +90,19 @@ TEST(CliContinuation, TextOutputMarksFolds) {
   EXPECT_EQ(folds, 2u) << r.out;
 }
 
+TEST(CliContinuation, ModelFileBranchThatTurnsBackOutOfTheRange) {
+  // The automatic recast of examples/models/duffing.yaml: from w = 1.8 up the
+  // resonant branch, over the upper fold and back down the middle branch,
+  // which leaves the range through its start (exit 0, status left_range).
+  const auto j = Json("solve examples/models/duffing.yaml --set F=0.5 --order 10 --continue w=1.8:2.5 "
+                      "--steps 5 --no-stability --json");
+  EXPECT_EQ(j["status"], "left_range");
+  EXPECT_NE(j["message"].get<std::string>().find("left the range through w = 1.8"), std::string::npos);
+  ASSERT_EQ(j["folds"].size(), 1u);
+  EXPECT_NEAR(j["folds"][0].get<double>(), 2.2119353170197, 1e-11);  // N = 10: 7e-13 off N = 30
+  EXPECT_LT(j["branch"].back()["parameter"].get<double>(), 1.8);
+}
+
 TEST(CliContinuation, StabilityCanBeSkipped) {
   const auto j = Json("solve duffing --set F=0.5 --order 10 --continue w=1:1.2 --no-stability --json");
   EXPECT_EQ(j["status"], "completed");
