@@ -25,6 +25,16 @@ const char* ToString(ContinuationStatus status) {
   return "unknown";
 }
 
+const char* ToString(PointStability stability) {
+  switch (stability) {
+    case PointStability::kStable: return "stable";
+    case PointStability::kUnstable: return "unstable";
+    case PointStability::kNeutral: return "neutral";
+    case PointStability::kUnknown: break;
+  }
+  return "unknown";
+}
+
 std::string ContinuationOptions::IsValid() const {
   for (double s : {initial_step, max_step, min_step})
     if (!(s >= 0) || !std::isfinite(s)) return "steps must be finite and >= 0 (0: default)";
@@ -38,6 +48,7 @@ std::string ContinuationOptions::IsValid() const {
   if (max_corrector_iterations < 1) return "max_corrector_iterations must be >= 1";
   if (!(max_turn > 0 && max_turn <= M_PI)) return "max_turn must be in (0, pi]";
   if (max_points < 2) return "max_points must be >= 2";
+  if (max_stability_unknowns < 0) return "max_stability_unknowns must be >= 0";
   if (!(max_seconds >= 0)) return "max_seconds must be >= 0";
   if (!(fold_tolerance > 0)) return "fold_tolerance must be > 0";
   return harmonic_balance.IsValid();
@@ -45,10 +56,11 @@ std::string ContinuationOptions::IsValid() const {
 
 std::string ContinuationSummary::BriefReport() const {
   std::ostringstream out;
-  out << ToString(method) << " continuation in " << parameter;
-  if (!points.empty())
-    out << " from " << points.front().parameter << " to " << points.back().parameter;
-  out << ": " << ToString(status) << ", " << points.size() << " points";
+  out << ToString(method) << " continuation in " << parameter << " from " << start << " to " << end
+      << ": " << ToString(status);
+  if (status != ContinuationStatus::kCompleted && !points.empty())
+    out << " at " << parameter << " = " << points.back().parameter;
+  out << ", " << points.size() << " points";
   if (method == ContinuationMethod::kPseudoArclength) out << ", " << num_folds << " fold(s)";
   out << ", " << accepted_steps << " steps (" << rejected_steps << " refused), arclength "
       << arclength << ", " << seconds * 1e3 << " ms";
@@ -59,14 +71,15 @@ std::string ContinuationSummary::FullReport() const {
   std::ostringstream out;
   out << BriefReport() << "\n";
   if (!message.empty()) out << "  " << message << "\n";
+  if (!stability_note.empty()) out << "  stability unknown: " << stability_note << "\n";
   out << "  order " << order << ", samples";
   for (int m : samples) out << " " << m;
   out << "\n";
   char line[200];
   for (const ContinuationPoint& p : points) {
-    std::snprintf(line, sizeof line, "  %s = %-22.16g w = %-20.15g max|x| = %-20.15g max|F| = %.1e%s\n",
-                  parameter.c_str(), p.parameter, p.solution.frequencies()[0],
-                  p.solution.Amplitude(0), p.residual, p.fold ? "  fold" : "");
+    std::snprintf(line, sizeof line, "  %s = %-22.16g w = %-20.15g max|F| = %.1e  %-8s%s\n",
+                  parameter.c_str(), p.parameter, p.solution.frequencies()[0], p.residual,
+                  ToString(p.stability), p.fold ? "  fold" : "");
     out << line;
   }
   return out.str();
@@ -100,6 +113,11 @@ class ParameterizedResidual {
 
   // The residual at lambda; nullptr when the model refuses the value.
   CollocationResidual* At(double lambda) { return Get(&current_, lambda); }
+  // The problem at lambda (after At(lambda) has succeeded).
+  const HarmonicBalanceProblem& ProblemAt(double lambda) {
+    At(lambda);
+    return *current_.problem;
+  }
 
   // F(x, lambda) and, when `jacobian` is given, [F_x F_lambda] (m x (n+1)).
   bool Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* F,
@@ -266,7 +284,9 @@ class Tracer {
       arclength_ += std::hypot((y.head(n()) - last_y_.head(n())).norm(), y(n()) - last.parameter);
     }
     last_y_ = y;
-    CollocationResidual* r = f_.At(y(n()));  // evaluated there just before: never refused
+    CollocationResidual* r = f_.At(y(n()));
+    // Evaluated there by the corrector, or at the range's end within an ulp.
+    if (!r) throw std::runtime_error("the model refuses a converged point: " + f_.refusal());
     Eigen::MatrixXd coefficients;
     std::vector<double> w;
     r->Unpack(y.head(n()), &coefficients, &w);
@@ -276,6 +296,32 @@ class Tracer {
         y(n()), HarmonicSolution(f_.basis(), w, coefficients, variables_), F.lpNorm<Eigen::Infinity>(),
         iterations, arclength_, tangent_parameter, fold, summary_.num_folds});
     summary_.arclength = arclength_;
+    if (options_.stability) Classify(&summary_.points.back());
+  }
+  void Classify(ContinuationPoint* p) {
+    if (hill_refused_) return;
+    if (n() > options_.max_stability_unknowns) {
+      hill_refused_ = true;
+      summary_.stability_note = "not computed: " + std::to_string(n()) + " unknowns, over max_stability_unknowns = " +
+                                std::to_string(options_.max_stability_unknowns);
+      return;
+    }
+    try {
+      const HillStabilityReport hill = HillStability(f_.ProblemAt(p->parameter), p->solution, options_.hill);
+      const double margin = options_.hill.margin * p->solution.frequencies()[0];
+      p->max_real_part = hill.max_real_part;
+      p->stability = hill.stable                       ? PointStability::kStable
+                     : hill.max_real_part > margin     ? PointStability::kUnstable
+                                                       : PointStability::kNeutral;
+    } catch (const std::invalid_argument& e) {
+      // Outside the method's scope: the same for every point.
+      hill_refused_ = true;
+      summary_.stability_note = e.what();
+    } catch (const std::runtime_error& e) {
+      // QZ did not converge: likely so at the next points too, and costly.
+      summary_.stability_note = e.what();
+      hill_refused_ = ++hill_failures_ >= 2;
+    }
   }
   // False (with the status set) when the point or time budget is spent.
   bool WithinBudget() {
@@ -323,6 +369,8 @@ class Tracer {
   Clock::time_point start_;
   SolverOptions corrector_;
   double direction_ = 1, step_ = 0, max_step_ = 0, min_step_ = 0, arclength_ = 0;
+  bool hill_refused_ = false;
+  int hill_failures_ = 0;
   Eigen::VectorXd last_y_;
 };
 
@@ -426,8 +474,10 @@ void Tracer::PseudoArclength(const Eigen::VectorXd& x0) {
     Add(trial, report.iterations, tangent(n()), false);
     if (direction_ * (lambda - problem_.start) < 0) {
       summary_.status = ContinuationStatus::kLeftRange;
-      summary_.message = "the branch turned back and left the range through " + problem_.parameter +
-                         " = " + std::to_string(problem_.start);
+      std::ostringstream msg;
+      msg << "the branch turned back and left the range through " << problem_.parameter << " = "
+          << problem_.start;
+      summary_.message = msg.str();
       return;
     }
     y = trial;
@@ -450,6 +500,8 @@ ContinuationSummary TraceBranch(const ContinuationProblem& problem, const Harmon
   ContinuationSummary summary;
   summary.method = options.method;
   summary.parameter = problem.parameter;
+  summary.start = problem.start;
+  summary.end = problem.end;
 
   // The first point: a full solve (order continuation, fallbacks) from the guess.
   const HarmonicBalanceProblem first = problem.build(problem.start);

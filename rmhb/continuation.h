@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "rmhb/harmonic_balance.h"
+#include "rmhb/hill_stability.h"
 
 namespace rmhb {
 
@@ -75,10 +76,20 @@ struct ContinuationOptions {
   // refused and retried with a smaller step.
   double max_turn = 0.5;
   int max_points = 5000;
-  double max_seconds = 0;            // 0: no limit
+  double max_seconds = 0;            // 0: no limit (checked between steps)
   // Locate each fold to |d lambda / ds| <= fold_tolerance (pseudo-arclength).
   bool locate_folds = true;
   double fold_tolerance = 1e-9;
+  // Stability of every point by Hill's method (rmhb/hill_stability.h): one
+  // generalised eigenproblem (QZ, O(n^3) with a large constant) of the size
+  // of the Jacobian per point, so it is skipped above max_stability_unknowns
+  // (measured on the Duffing branch at 62 unknowns: ~3 ms per point, twice
+  // the rest of the step; ~100 ms at 200). Outside its scope (quasi-periodic, pinned
+  // auxiliaries) or after its eigensolver failed twice, points stay
+  // kUnknown too; the summary says why.
+  bool stability = true;
+  int max_stability_unknowns = 200;
+  HillOptions hill;
 
   std::string IsValid() const;       // empty when valid
 };
@@ -93,6 +104,14 @@ enum class ContinuationStatus {
 };
 const char* ToString(ContinuationStatus status);
 
+enum class PointStability {
+  kUnknown,   // not computed, or outside Hill's method's scope
+  kStable,    // every non-trivial Floquet exponent has Re < -margin w
+  kUnstable,  // one has Re > margin w
+  kNeutral,   // the largest is within the margin: a fold, or a conservative system
+};
+const char* ToString(PointStability stability);
+
 struct ContinuationPoint {
   double parameter = 0;
   HarmonicSolution solution;
@@ -104,13 +123,17 @@ struct ContinuationPoint {
   double tangent_parameter = 0;
   bool fold = false;            // a located turning point
   int folds_before = 0;         // folds passed from the start to here
+  PointStability stability = PointStability::kUnknown;
+  double max_real_part = 0;     // of the non-trivial Floquet exponents (Hill), if known
 };
 
 struct ContinuationSummary {
   ContinuationStatus status = ContinuationStatus::kStartFailed;
   ContinuationMethod method = ContinuationMethod::kPseudoArclength;
   std::string parameter;
+  double start = 0, end = 0;   // the range asked for
   std::string message;
+  std::string stability_note;  // why stability is unknown, if it is
   std::vector<ContinuationPoint> points;
   int accepted_steps = 0;
   int rejected_steps = 0;

@@ -49,7 +49,7 @@ double PeakValue(const HarmonicSolution& s) {
 
 struct PointReport {
   double peak = 0;
-  std::string stability;           // "stable", "unstable", or "-" when unknown
+  std::string stability;           // stable, unstable, neutral or unknown
   double validation_error = NAN;   // with --validate
   // Against the model's exact reference at this parameter value, if any.
   double frequency_error = NAN, amplitude_error = NAN;
@@ -73,11 +73,14 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
       ->check(CLI::Range(1, 1000000));
   app->add_option("--max-step", a->max_step,
                   "Continuation: largest step, arclength in (coefficients, parameter) or the "
-                  "parameter with --natural (default |b - a| / 10)")
+                  "parameter with --natural (default |b - a| / 10, or the first step if larger)")
       ->check(CLI::PositiveNumber);
   app->add_flag("--natural", a->natural,
                 "Continuation: natural-parameter steps (stop at a fold) instead of "
                 "pseudo-arclength (passes folds)");
+  app->add_flag("--no-stability", a->no_stability,
+                "Continuation: skip Hill's method per point (one eigenproblem of the Jacobian's "
+                "size each; computed by default up to 200 unknowns)");
 }
 
 int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
@@ -101,16 +104,18 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   ContinuationOptions options;
   options.method = a.natural ? ContinuationMethod::kNatural : ContinuationMethod::kPseudoArclength;
   options.harmonic_balance = prepared.options;
+  options.stability = !a.no_stability;
   options.initial_step = std::abs(range.to - range.from) / a.steps;
-  options.max_step = a.max_step;
-  if (a.max_step > 0) options.initial_step = std::min(options.initial_step, a.max_step);
+  options.max_step = a.max_step > 0 ? a.max_step
+                                    : std::max(options.initial_step, std::abs(range.to - range.from) / 10);
+  options.initial_step = std::min(options.initial_step, options.max_step);
   const ContinuationSummary summary = TraceBranch(problem, prepared.guess, options);
 
   std::vector<PointReport> reports;
   for (const ContinuationPoint& p : summary.points) {
     PointReport r;
     r.peak = PeakValue(p.solution);
-    r.stability = "-";
+    r.stability = ToString(p.stability);
     const ProblemSource source = LoadSolveProblem(solve.settings, {{range.name, p.parameter}});
     if (source.reference.has_frequency())
       r.frequency_error = p.solution.frequencies()[0] - source.reference.frequency;
@@ -179,6 +184,7 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
                 {"method", ToString(summary.method)},
                 {"status", ToString(summary.status)},
                 {"message", summary.message},
+                {"stability_note", summary.stability_note},
                 {"order", summary.order},
                 {"samples", summary.samples.size() == 1 ? json(summary.samples[0]) : json(summary.samples)},
                 {"points", summary.points.size()},
@@ -193,14 +199,21 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   } else {
     std::printf("%s\n", summary.BriefReport().c_str());
     if (!summary.message.empty()) std::printf("%s\n", summary.message.c_str());
+    if (!summary.stability_note.empty()) std::printf("stability unknown: %s\n", summary.stability_note.c_str());
     if (!solve.quiet) {
       std::printf("\n%-22s %-20s %-20s %-9s %-9s%s%s\n", range.name.c_str(), "frequency",
                   "amplitude max|x|", "residual", "stability", solve.validate ? " validation" : "",
                   has_reference ? " exact error" : "");
       for (size_t i = 0; i < summary.points.size(); ++i) {
         const ContinuationPoint& p = summary.points[i];
-        std::printf("%-22.16g %-20.15g %-20.15g %-9.1e %-9s", p.parameter, p.solution.frequencies()[0],
-                    reports[i].peak, p.residual, reports[i].stability.c_str());
+        std::string w;
+        for (double v : p.solution.frequencies()) {
+          char text[32];
+          std::snprintf(text, sizeof text, "%s%.15g", w.empty() ? "" : ",", v);
+          w += text;
+        }
+        std::printf("%-22.15g %-20s %-20.15g %-9.1e %-9s", p.parameter, w.c_str(), reports[i].peak,
+                    p.residual, reports[i].stability.c_str());
         if (solve.validate) std::printf(" %-10.1e", reports[i].validation_error);
         if (has_reference) std::printf(" %.1e", reports[i].reference_error());
         std::printf("%s\n", p.fold ? "  <- fold" : "");

@@ -20,9 +20,10 @@ struct ContinuationArgs {
   int steps = 20;        // first step = |b - a| / steps
   double max_step = 0;   // 0: |b - a| / 10
   bool natural = false;  // natural-parameter instead of pseudo-arclength
+  bool no_stability = false;
 };
 
-// Adds --continue, --steps, --max-step and --natural to `solve`.
+// Adds --continue, --steps, --max-step, --natural and --no-stability to `solve`.
 void AddContinuationOptions(CLI::App* solve, ContinuationArgs* args);
 // Runs the continuation with the solve command's settings and output flags.
 int RunContinuation(const SolveArgs& solve, const ContinuationArgs& args);

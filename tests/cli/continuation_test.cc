@@ -48,8 +48,11 @@ TEST(CliContinuation, DuffingFrequencyResponseThroughBothFolds) {
   ASSERT_EQ(branch.size(), j["points"].get<size_t>());
   EXPECT_EQ(branch.front()["parameter"], 0.5);
   EXPECT_EQ(branch.back()["parameter"], 3.0);
-  int marked = 0;
+  int marked = 0, folds_passed = 0;
   for (const auto& p : branch) {
+    // Hill's method: the middle branch, between the folds, is the unstable one.
+    if (p["fold"].get<bool>()) ++folds_passed;
+    else EXPECT_EQ(p["stability"], folds_passed == 1 ? "unstable" : "stable") << p["parameter"];
     for (const char* key : {"parameter", "frequencies", "amplitude", "residual", "fold", "stability"})
       EXPECT_TRUE(p.contains(key)) << key;
     EXPECT_LT(p["residual"].get<double>(), 1e-12);
@@ -85,6 +88,25 @@ TEST(CliContinuation, TextOutputMarksFolds) {
   size_t folds = 0;
   for (size_t at = r.out.find("<- fold"); at != std::string::npos; at = r.out.find("<- fold", at + 1)) ++folds;
   EXPECT_EQ(folds, 2u) << r.out;
+}
+
+TEST(CliContinuation, ModelFileBranchThatTurnsBackOutOfTheRange) {
+  // The automatic recast of examples/models/duffing.yaml: from w = 1.8 up the
+  // resonant branch, over the upper fold and back down the middle branch,
+  // which leaves the range through its start (exit 0, status left_range).
+  const auto j = Json("solve examples/models/duffing.yaml --set F=0.5 --order 10 --continue w=1.8:2.5 "
+                      "--steps 5 --no-stability --json");
+  EXPECT_EQ(j["status"], "left_range");
+  EXPECT_NE(j["message"].get<std::string>().find("left the range through w = 1.8"), std::string::npos);
+  ASSERT_EQ(j["folds"].size(), 1u);
+  EXPECT_NEAR(j["folds"][0].get<double>(), 2.2119353170197, 1e-11);  // N = 10: 7e-13 off N = 30
+  EXPECT_LT(j["branch"].back()["parameter"].get<double>(), 1.8);
+}
+
+TEST(CliContinuation, StabilityCanBeSkipped) {
+  const auto j = Json("solve duffing --set F=0.5 --order 10 --continue w=1:1.2 --no-stability --json");
+  EXPECT_EQ(j["status"], "completed");
+  for (const auto& p : j["branch"]) EXPECT_EQ(p["stability"], "unknown");
 }
 
 TEST(CliContinuation, NaturalContinuationStopsAtAFoldWithExitCode3) {
