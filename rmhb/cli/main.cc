@@ -8,6 +8,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "rmhb/cli/analyze_command.h"
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/identify_command.h"
@@ -43,6 +44,10 @@ int main(int argc, char** argv) {
                   "sampled signal (--signal FILE.csv) or from a model's integrated trajectory.");
   AddIdentifyOptions(identify_cmd, &identify);
 
+  AnalyzeArgs analyze;
+  AddAnalyzeOptions(app.add_subcommand("analyze", "Integrate, identify the base frequencies, seed and solve RHB/RMHB, validate:\n"
+                                                  "every stage's error and run time in one report."), &analyze);
+
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;
   list_cmd->add_flag("--json", list_json, "Machine-readable output");
@@ -64,6 +69,7 @@ int main(int argc, char** argv) {
     if (*list_cmd) return RunList(list_json);
     if (*recast_cmd) return RunRecast(recast);
     if (*identify_cmd) return RunIdentify(identify);
+    if (app.got_subcommand("analyze")) return RunAnalyze(analyze);
   } catch (const rmhb::model::ModelError& e) {
     std::fprintf(stderr, "rmhb: error: %s\n", e.what());
     return kExitBadInput;

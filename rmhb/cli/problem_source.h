@@ -14,6 +14,7 @@
 #include <Eigen/Dense>
 
 #include "examples/example_system.h"
+#include "examples/identified_guess.h"
 #include "integrators/ode_system.h"
 #include "rmhb/collocation_residual.h"
 #include "rmhb/harmonic_solution.h"
@@ -35,6 +36,11 @@ struct ProblemSource {
   std::function<integrators::OdeSystem(const std::vector<double>& w)> original;
   std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
   std::vector<std::string> state_names;
+  // Where a trajectory for identification starts (empty: the guess at t = 0),
+  // and every variable from the state and its derivatives on a torus.
+  Eigen::VectorXd initial_state;
+  examples::StateToVariables variables;
+  int state_derivatives = 0;
   bool stiff = false;
   std::string original_error;  // why there is no original system, if so
   examples::Reference reference;
