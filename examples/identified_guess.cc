@@ -112,10 +112,14 @@ std::vector<double> AlignPhases(const HarmonicBalanceProblem& problem, const Har
     for (size_t i = 0; i < problem.conditions.size(); ++i) r(i) = problem.conditions[i].function(z, dz, nullptr, nullptr);
     return r;
   };
-  const int grid = f == 1 ? 256 : 48;
-  std::vector<std::pair<double, Eigen::VectorXd>> scanned;
+  // A record started on the conditions (a conservative motion) meets them
+  // already, up to the truncation of the basis: no scan, no other root.
+  const double at_zero = cost(Eigen::VectorXd::Zero(f));
+  const bool started_on_conditions = at_zero <= 1e-5 * (1 + s.coefficients().cwiseAbs().maxCoeff());
+  const int grid = f == 1 ? 256 : 32;
+  std::vector<std::pair<double, Eigen::VectorXd>> scanned = {{at_zero, Eigen::VectorXd::Zero(f)}};
   Eigen::VectorXd phi(f);
-  const long total = f == 1 ? grid : grid * grid;
+  const long total = started_on_conditions ? 0 : f == 1 ? grid : grid * grid;
   for (long g = 0; g < total; ++g) {
     phi(0) = 2 * M_PI * (g % grid) / grid;
     if (f == 2) phi(1) = 2 * M_PI * (g / grid) / grid;

@@ -60,7 +60,7 @@ struct RecordOptions {
 // apart. The transient is a tenth of the record, dt gives
 // `samples_per_period` samples per period of the fastest base.
 RecordOptions DefaultRecord(const std::vector<double>& frequencies, int samples_per_period = 16,
-                            double periods = 200, double beats = 4);
+                            double periods = 200, double beats = 3);
 
 // The trajectory from y0 at t = 0, sampled uniformly. Throws
 // std::invalid_argument on bad options (t_end <= transient, dt <= 0, more

@@ -38,12 +38,12 @@ Eigen::VectorXd StartState(const ProblemSource& source, const HarmonicSolution& 
 void AddAnalyzeOptions(CLI::App* app, AnalyzeArgs* a) {
   AddSolveSettings(app, &a->settings);
   app->add_option("--t-end", a->t_end,
-                  "End of the integrated record for identification (default: 200 periods of the "
-                  "slowest base, 4 beats of the closest pair)");
+                  "End of the integrated record for identification (default: 60 periods for one base; "
+                  "for several 200 periods of the slowest base or 3 beats of the closest pair, whichever is longer, plus the transient)");
   app->add_option("--transient", a->transient, "Initial time integrated but not recorded (default: a tenth)");
   app->add_option("--samples-per-period", a->samples_per_period,
-                  "Record samples per period of the fastest base (default: 2.5 per harmonic of the "
-                  "basis's highest, at least 16)")
+                  "Record samples per period of the fastest base (default: 2.5 N for one base, "
+                  "within [16, 128]; 12 for several)")
       ->check(CLI::Range(0, 4096));
   app->add_option("--window", a->window, "Hann^q window order q for identification (0: automatic)")
       ->check(CLI::Range(0, 8));
@@ -73,17 +73,18 @@ int RunAnalyze(const AnalyzeArgs& a) {
   frequency_id::IdentificationSummary id;
   if (identify) {
     // 1. Trajectory of the original equations.
-    // Enough samples that the basis's highest harmonic is well below Nyquist:
-    // aliased harmonics would be lines no base explains.
+    // One base: enough samples that the order's highest harmonic is well
+    // below Nyquist (an aliased harmonic is a line no base explains). Several:
+    // the record is long (beats), and the lines above the threshold below
+    // stay under 6 times the fastest base on the bundled tori; measured by
+    // tests/benchmarks/frequency_id_benchmark (section 4).
     int samples_per_period = a.samples_per_period;
-    if (samples_per_period == 0) {
-      const HarmonicBasis basis = MakeBasis(bases, options);
-      const double w_max = *std::max_element(problem.frequencies.begin(), problem.frequencies.end());
-      double highest = 1;
-      for (int k = 1; k < basis.size(); ++k) highest = std::max(highest, std::abs(basis.Frequency(k, problem.frequencies)) / w_max);
-      samples_per_period = std::max(16, static_cast<int>(std::ceil(2.5 * highest)));
-    }
-    examples::RecordOptions record = examples::DefaultRecord(problem.frequencies, samples_per_period);
+    if (samples_per_period == 0)
+      samples_per_period = bases == 1 ? std::clamp(5 * options.order / 2, 16, 128) : 12;
+    // A periodic record's lines are exact harmonics, fitted jointly: 60
+    // periods give the frequency to CVODE's drift already.
+    examples::RecordOptions record =
+        examples::DefaultRecord(problem.frequencies, samples_per_period, bases == 1 ? 60 : 200);
     if (a.t_end > 0) record.t_end = a.t_end;
     record.transient = a.transient >= 0 ? a.transient : 0.1 * record.t_end;
     if (!(record.t_end <= 1e7)) throw std::invalid_argument("--t-end is too large (at most 1e7)");
@@ -111,6 +112,10 @@ int RunAnalyze(const AnalyzeArgs& a) {
     // sidebands near 1e-9 of the strongest line over a long record: not lines
     // of the motion, and a guess needs nothing that weak (Newton adds it).
     id_options.relative_threshold = 1e-8;
+    // The cost grows with the lines modelled; 32 hold every line above 1e-8
+    // of the bundled examples but the asymmetric pendulum's (~60), where they
+    // halve the time and keep the bases within 1e-12 (benchmark, section 4).
+    id_options.max_components = 32;
     for (int b = 0; b < bases; ++b)
       if (!Unknown(problem, b)) id_options.bases.known_frequencies.push_back(problem.frequencies[b]);
     t0 = Clock::now();
