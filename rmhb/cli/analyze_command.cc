@@ -40,7 +40,7 @@ void AddAnalyzeOptions(CLI::App* app, AnalyzeArgs* a) {
   app->add_option("--t-end", a->t_end,
                   "End of the integrated record for identification (default: 60 periods for one base; "
                   "for several 200 periods of the slowest base or 3 beats of the closest pair, whichever is longer, plus the transient)");
-  app->add_option("--transient", a->transient, "Initial time integrated but not recorded (default: a tenth)");
+  app->add_option("--transient", a->transient, "Initial time integrated but not recorded (default: a tenth of --t-end)");
   app->add_option("--samples-per-period", a->samples_per_period,
                   "Record samples per period of the fastest base (default: 2.5 N for one base, "
                   "within [16, 128]; 12 for several)")
@@ -85,8 +85,12 @@ int RunAnalyze(const AnalyzeArgs& a) {
     // periods give the frequency to CVODE's drift already.
     examples::RecordOptions record =
         examples::DefaultRecord(problem.frequencies, samples_per_period, bases == 1 ? 60 : 200);
+    // A given transient comes before the default record; a given t_end keeps
+    // the default tenth as the transient.
+    const double length = record.t_end - record.transient;
     if (a.t_end > 0) record.t_end = a.t_end;
     record.transient = a.transient >= 0 ? a.transient : 0.1 * record.t_end;
+    if (a.t_end <= 0 && a.transient >= 0) record.t_end = a.transient + length;
     if (!(record.t_end <= 1e7)) throw std::invalid_argument("--t-end is too large (at most 1e7)");
     if (record.transient >= record.t_end) throw std::invalid_argument("--transient must be shorter than --t-end");
     record.integrator.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf

@@ -46,7 +46,8 @@ int main(int argc, char** argv) {
 
   AnalyzeArgs analyze;
   AddAnalyzeOptions(app.add_subcommand("analyze", "Integrate, identify the base frequencies, seed and solve RHB/RMHB, validate:\n"
-                                                  "every stage's error and run time in one report."), &analyze);
+                                                  "every stage's error and run time in one report. --frequencies skips identification.\n"
+                                                  "Exit 3 when the identification or the solve fails (status says which)."), &analyze);
 
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;

@@ -8,32 +8,14 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
+
+#include "tests/cli/cli_run.h"
 
 namespace {
 
-struct CliRun {
-  int code;
-  std::string out;  // stdout and stderr together
-};
-
-// Runs a shell command, returns its exit code and standard output.
-CliRun Capture(const std::string& cmd) {
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-// stdout and stderr together, as a user sees them.
-CliRun Cli(const std::string& args) { return Capture(std::string(RMHB_CLI) + " " + args + " 2>&1"); }
-
-// stdout only: it must be a JSON document.
-nlohmann::json Json(const std::string& args) {
-  return nlohmann::json::parse(Capture(std::string(RMHB_CLI) + " " + args).out);
-}
+using rmhb::cli_test::Cli;
+using rmhb::cli_test::CliRun;
+using rmhb::cli_test::Json;
 
 TEST(Cli, SolveJsonHasTheDocumentedFields) {
   const auto j = Json("solve pendulum --set theta0=1.5 --order 25 --json --validate");
