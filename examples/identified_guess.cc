@@ -73,16 +73,14 @@ Eigen::MatrixXi ChooseCoordinates(const IdentificationSummary& id, const Harmoni
   return chosen;
 }
 
-double Residual(const HarmonicBalanceProblem& problem, const HarmonicSolution& s) {
+// The point conditions' residuals on a solution.
+Eigen::VectorXd Conditions(const HarmonicBalanceProblem& problem, const HarmonicSolution& s) {
   const int n = s.num_variables();
-  Eigen::VectorXd z(n), dz(n);
+  Eigen::VectorXd z(n), dz(n), r(problem.conditions.size());
   for (int j = 0; j < n; ++j) z(j) = s.Value(j, 0.0), dz(j) = s.Derivative(j, 0.0);
-  double sum = 0;
-  for (const auto& c : problem.conditions) {
-    const double r = c.function(z, dz, nullptr, nullptr);
-    sum += r * r;
-  }
-  return std::sqrt(sum);
+  for (size_t i = 0; i < problem.conditions.size(); ++i)
+    r(i) = problem.conditions[i].function(z, dz, nullptr, nullptr);
+  return r;
 }
 
 // Turns the unknown bases' angles to meet the point conditions: a scan of the
@@ -103,21 +101,15 @@ std::vector<double> AlignPhases(const HarmonicBalanceProblem& problem, const Har
     for (int i = 0; i < f; ++i) p[free[i]] = phi(i);
     return p;
   };
-  auto cost = [&](const Eigen::VectorXd& phi) { return Residual(problem, s.Shifted(turn(phi))); };
-  auto conditions = [&](const Eigen::VectorXd& phi) {
-    const HarmonicSolution t = s.Shifted(turn(phi));
-    const int n = t.num_variables();
-    Eigen::VectorXd z(n), dz(n), r(problem.conditions.size());
-    for (int j = 0; j < n; ++j) z(j) = t.Value(j, 0.0), dz(j) = t.Derivative(j, 0.0);
-    for (size_t i = 0; i < problem.conditions.size(); ++i) r(i) = problem.conditions[i].function(z, dz, nullptr, nullptr);
-    return r;
-  };
+  auto conditions = [&](const Eigen::VectorXd& phi) { return Conditions(problem, s.Shifted(turn(phi))); };
+  auto cost = [&](const Eigen::VectorXd& phi) { return conditions(phi).norm(); };
   // A record started on the conditions (a conservative motion) meets them
   // already, up to the truncation of the basis: no scan, no other root.
   const double at_zero = cost(Eigen::VectorXd::Zero(f));
   const bool started_on_conditions = at_zero <= 1e-5 * (1 + s.coefficients().cwiseAbs().maxCoeff());
   const int grid = f == 1 ? 256 : 32;
-  std::vector<std::pair<double, Eigen::VectorXd>> scanned = {{at_zero, Eigen::VectorXd::Zero(f)}};
+  std::vector<std::pair<double, Eigen::VectorXd>> scanned;
+  if (started_on_conditions) scanned.push_back({at_zero, Eigen::VectorXd::Zero(f)});
   Eigen::VectorXd phi(f);
   const long total = started_on_conditions ? 0 : f == 1 ? grid : grid * grid;
   for (long g = 0; g < total; ++g) {
@@ -286,11 +278,8 @@ IdentifiedGuess GuessFromIdentification(const IdentificationSummary& id, const H
   HarmonicSolution guess = HarmonicSolution::FromAngles(basis, w, problem.system.variables(), f);
   out.phase_shift = AlignPhases(problem, guess);
   out.guess = guess.Shifted(out.phase_shift);
-  const int n = out.guess.num_variables();
-  Eigen::VectorXd z(n), dz(n);
-  for (int j = 0; j < n; ++j) z(j) = out.guess.Value(j, 0.0), dz(j) = out.guess.Derivative(j, 0.0);
-  for (const auto& c : problem.conditions)
-    out.condition_residual = std::max(out.condition_residual, std::abs(c.function(z, dz, nullptr, nullptr)));
+  if (!problem.conditions.empty())
+    out.condition_residual = Conditions(problem, out.guess).cwiseAbs().maxCoeff();
   return out;
 }
 
