@@ -128,10 +128,19 @@ int RunAnalyze(const AnalyzeArgs& a) {
     stages["identify"] = {{"seconds", id_seconds}, {"status", ToString(id.status)}, {"message", id.message},
                           {"window_order", id.window_order}, {"lines", id.components.size()},
                           {"explained", id.num_explained}};
-    std::snprintf(text, sizeof text, "%-10s %9.1f ms  %s, %zu lines (%d explained), Hann^%d",
+    std::snprintf(text, sizeof text, "%-10s %9.1f ms  %s, %zu lines (%d explained), Hann^%d, bases",
                   "identify", id_seconds * 1e3, ToString(id.status), id.components.size(),
                   id.num_explained, id.window_order);
-    lines.push_back(text);
+    // The bases as selected (any basis of the lattice); the seed maps them to the model's.
+    json selected = json::array();
+    std::string report = text;
+    for (size_t i = 0; i < id.bases.size(); ++i) {
+      selected.push_back(Number(id.bases[i].frequency));
+      std::snprintf(text, sizeof text, "%s b%zu = %.12g", i ? "," : "", i + 1, id.bases[i].frequency);
+      report += text;
+    }
+    stages["identify"]["selected_bases"] = selected;
+    lines.push_back(report);
 
     // 3. Seed.
     if (!id.IsUsable()) {
