@@ -39,8 +39,10 @@ void AddAnalyzeOptions(CLI::App* app, AnalyzeArgs* a) {
   AddSolveSettings(app, &a->settings);
   app->add_option("--t-end", a->t_end,
                   "End of the integrated record for identification (default: 60 periods for one base; "
-                  "for several 200 periods of the slowest base or 3 beats of the closest pair, whichever is longer, plus the transient)");
-  app->add_option("--transient", a->transient, "Initial time integrated but not recorded (default: a tenth of --t-end)");
+                  "for several 200 periods of the slowest base or 3 beats of the closest pair, whichever is longer, plus the transient)")
+      ->check(CLI::NonNegativeNumber);
+  app->add_option("--transient", a->transient, "Initial time integrated but not recorded (default: a tenth of --t-end)")
+      ->check(CLI::NonNegativeNumber);
   app->add_option("--samples-per-period", a->samples_per_period,
                   "Record samples per period of the fastest base (default: 2.5 N for one base, "
                   "within [16, 128]; 12 for several)")
@@ -62,6 +64,8 @@ int RunAnalyze(const AnalyzeArgs& a) {
   const int bases = static_cast<int>(problem.frequencies.size());
   const bool identify = a.settings.frequencies.empty();
   if (!source.original) throw std::invalid_argument("cannot integrate the model: " + source.original_error);
+  if (!std::isfinite(a.t_end) || !std::isfinite(a.transient))
+    throw std::invalid_argument("--t-end and --transient must be finite numbers");
 
   json out, stages = json::object();
   out["model"] = a.settings.model;

@@ -105,6 +105,11 @@ TEST(Analyze, BadInputGivesAClearMessageAndExitCode) {
   r = Cli("analyze pendulum --t-end 1e300");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("--t-end"), std::string::npos) << r.out;
+  r = Cli("analyze pendulum --t-end -5");
+  EXPECT_EQ(r.code, 1);
+  r = Cli("analyze pendulum --transient nan");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("finite"), std::string::npos) << r.out;
   r = Cli("analyze pendulum --window 9");
   EXPECT_EQ(r.code, 1);
   r = Cli("analyze");
