@@ -22,6 +22,40 @@ struct Line {
   Eigen::VectorXd phase;     // per channel, at t = 0
 };
 
+// The record's state on harmonics 0..order of w, fitted by least squares
+// over its last periods (enough samples for a well-posed fit), in absolute
+// time; harmonics above 0.8 Nyquist are left out (they alias).
+std::vector<Line> FitHarmonics(const frequency_id::Signal& record, double w, int order,
+                               Eigen::VectorXd* mean) {
+  const int K = std::min(order, static_cast<int>(0.8 * M_PI / (w * record.dt)));
+  if (K < 1) return {};
+  const long rows = std::min<long>(record.num_samples(),
+                                   std::max<long>(4 * (2 * K + 1), std::lround(4 * M_PI / (w * record.dt))));
+  const long first = record.num_samples() - rows;
+  Eigen::MatrixXd E(rows, 2 * K + 1);
+  for (long n = 0; n < rows; ++n) {
+    const double t = record.t0 + (first + n) * record.dt;
+    E(n, 0) = 1;
+    for (int k = 1; k <= K; ++k) E(n, 2 * k - 1) = std::cos(k * w * t), E(n, 2 * k) = std::sin(k * w * t);
+  }
+  const Eigen::MatrixXd c = E.colPivHouseholderQr().solve(record.samples.bottomRows(rows));
+  *mean = c.row(0).transpose();
+  std::vector<Line> lines(K);
+  for (int k = 1; k <= K; ++k) {
+    Line& line = lines[k - 1];
+    line.label = {k};
+    line.frequency = k * w;
+    // a cos + b sin = A cos(k w t + phase)
+    line.amplitude.resize(c.cols());
+    line.phase.resize(c.cols());
+    for (long ch = 0; ch < c.cols(); ++ch) {
+      line.amplitude(ch) = std::hypot(c(2 * k - 1, ch), c(2 * k, ch));
+      line.phase(ch) = std::atan2(-c(2 * k, ch), c(2 * k - 1, ch));
+    }
+  }
+  return lines;
+}
+
 // All integer d x d matrices with entries in [-range, range] and determinant
 // +-1, for d <= 2; permutations only above (enumeration would explode).
 std::vector<Eigen::MatrixXi> UnimodularCandidates(int d, int range) {
@@ -200,7 +234,7 @@ frequency_id::Signal RecordTrajectory(const integrators::OdeSystem& system, cons
 
 IdentifiedGuess GuessFromIdentification(const IdentificationSummary& id, const HarmonicBalanceProblem& problem,
                                         const HarmonicBasis& basis, const StateToVariables& variables,
-                                        int state_derivatives) {
+                                        int state_derivatives, const frequency_id::Signal* record) {
   const int d = static_cast<int>(problem.frequencies.size());
   if (!id.IsUsable()) throw std::invalid_argument("the identification is not usable: " + id.message);
   if (static_cast<int>(id.bases.size()) != d)
@@ -260,7 +294,11 @@ IdentifiedGuess GuessFromIdentification(const IdentificationSummary& id, const H
   }
   out.energy_on_basis = energy > 0 ? on_basis / energy : 0;
 
-  const Eigen::VectorXd mean = id.mean;
+  Eigen::VectorXd mean = id.mean;
+  if (d == 1 && record) {
+    lines = FitHarmonics(*record, w[0], basis.Reach(0), &mean);
+    out.fitted_harmonics = static_cast<int>(lines.size());
+  }
   const int channels = static_cast<int>(mean.size());
   auto f = [&](const std::vector<double>& theta) {
     std::vector<Eigen::VectorXd> state(state_derivatives + 1, Eigen::VectorXd::Zero(channels));
@@ -290,6 +328,7 @@ std::string IdentifiedGuess::Report() const {
   bool identity = true;
   for (int b = 0; b < d; ++b)
     for (int i = 0; i < d; ++i) identity = identity && coordinates[b][i] == (b == i);
+  if (fitted_harmonics) os << fitted_harmonics << " harmonics fitted on the record; ";
   os << lines_used << " labelled lines on the basis (" << 100 * energy_on_basis << "% of the line energy), "
      << lines_dropped << " left out";
   if (!identity) {

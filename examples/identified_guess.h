@@ -89,6 +89,9 @@ struct IdentifiedGuess {
   double energy_on_basis = 0;
   int lines_used = 0;     // labelled lines on the basis
   int lines_dropped = 0;  // labelled lines off the basis, and unlabelled ones
+  // One base with the record given: harmonics fitted on the record directly
+  // (0: the guess is made of the identified lines).
+  int fitted_harmonics = 0;
   std::string Report() const;  // one paragraph
 };
 
@@ -98,11 +101,18 @@ struct IdentifiedGuess {
 // identification is not usable or its number of bases differs from the
 // problem's, or when no integer change of basis matches the problem's known
 // frequencies.
+//
+// With one base and the identified `record`, the state is instead fitted on
+// every harmonic of the basis below 0.8 Nyquist at the identified frequency
+// (least squares over the record's last periods): a relaxation oscillation
+// has hundreds of harmonics, more than identification models as lines
+// (max_components) or labels (max_harmonic).
 IdentifiedGuess GuessFromIdentification(const frequency_id::IdentificationSummary& identification,
                                         const HarmonicBalanceProblem& problem,
                                         const HarmonicBasis& basis,
                                         const StateToVariables& variables,
-                                        int state_derivatives = 0);
+                                        int state_derivatives = 0,
+                                        const frequency_id::Signal* record = nullptr);
 
 }  // namespace rmhb::examples
 

@@ -45,7 +45,7 @@ void AddAnalyzeOptions(CLI::App* app, AnalyzeArgs* a) {
       ->check(CLI::NonNegativeNumber);
   app->add_option("--samples-per-period", a->samples_per_period,
                   "Record samples per period of the fastest base (default: 2.5 N for one base, "
-                  "within [16, 128]; 12 for several)")
+                  "within [16, 1024]; 12 for several)")
       ->check(CLI::Range(0, 4096));
   app->add_option("--window", a->window, "Hann^q window order q for identification (0: automatic)")
       ->check(CLI::Range(0, 8));
@@ -84,7 +84,7 @@ int RunAnalyze(const AnalyzeArgs& a) {
     // tests/benchmarks/frequency_id_benchmark (section 4).
     int samples_per_period = a.samples_per_period;
     if (samples_per_period == 0)
-      samples_per_period = bases == 1 ? std::clamp(5 * options.order / 2, 16, 128) : 12;
+      samples_per_period = bases == 1 ? std::clamp(5 * options.order / 2, 16, 1024) : 12;
     // A periodic record's lines are exact harmonics, fitted jointly: 60
     // periods give the frequency to CVODE's drift already.
     examples::RecordOptions record =
@@ -157,7 +157,7 @@ int RunAnalyze(const AnalyzeArgs& a) {
       t0 = Clock::now();
       try {
         const examples::IdentifiedGuess seed = examples::GuessFromIdentification(
-            id, problem, MakeBasis(bases, options), source.variables, source.state_derivatives);
+            id, problem, MakeBasis(bases, options), source.variables, source.state_derivatives, &signal);
         const double seed_seconds = Since(t0);
         guess = seed.guess;
         for (int b = 0; b < bases; ++b) problem.frequencies[b] = seed.frequencies[b];
@@ -168,6 +168,7 @@ int RunAnalyze(const AnalyzeArgs& a) {
         stages["identify"]["bases"] = identified;
         stages["seed"] = {{"seconds", seed_seconds}, {"lines_used", seed.lines_used},
                           {"lines_dropped", seed.lines_dropped}, {"energy_on_basis", Number(seed.energy_on_basis)},
+                          {"fitted_harmonics", seed.fitted_harmonics},
                           {"coordinates", seed.coordinates}, {"phase_shift", seed.phase_shift},
                           {"condition_residual", Number(seed.condition_residual)}};
         std::snprintf(text, sizeof text, "%-10s %9.1f ms  ", "seed", seed_seconds * 1e3);

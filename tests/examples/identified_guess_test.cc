@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "examples/example_system.h"
 #include "examples/identified_guess.h"
@@ -29,7 +30,8 @@ HarmonicBalanceOptions Options(const ExampleSetup& e, int order) {
 // Trajectory from the example's initial state, then identification with the
 // settings of `rmhb analyze`.
 frequency_id::IdentificationSummary Identify(const ExampleSetup& e, const HarmonicBalanceProblem& problem,
-                                             int samples_per_period, double transient) {
+                                             int samples_per_period, double transient,
+                                             frequency_id::Signal* record_out = nullptr) {
   RecordOptions record = DefaultRecord(problem.frequencies, samples_per_period);
   record.t_end += transient - record.transient;
   record.transient = transient;
@@ -42,6 +44,7 @@ frequency_id::IdentificationSummary Identify(const ExampleSetup& e, const Harmon
     if (!problem.unknown_frequency[b]) options.bases.known_frequencies.push_back(problem.frequencies[b]);
   frequency_id::IdentificationSummary summary;
   IdentifyFrequencies(options, signal, &summary);
+  if (record_out) *record_out = signal;
   return summary;
 }
 
@@ -122,18 +125,26 @@ TEST(IdentifiedGuess, PendulumAuxiliariesFromTheirDefinitions) {
   const ExampleSetup e = BuildExample("pendulum");
   HarmonicBalanceProblem problem = e.problem;
   problem.frequencies = {1.0};
-  const frequency_id::IdentificationSummary id = Identify(e, problem, 64, 0.0);
+  frequency_id::Signal record;
+  const frequency_id::IdentificationSummary id = Identify(e, problem, 64, 0.0, &record);
   ASSERT_TRUE(id.IsUsable()) << id.FullReport();
-  const IdentifiedGuess seed = GuessFromIdentification(id, problem, HarmonicBasis::Periodic(25), Variables(e));
-  EXPECT_NEAR(seed.frequencies[0], e.reference.frequency, 1e-9);  // CVODE's drift, measured 3e-11
-  const int s_index = seed.guess.IndexOf("s");
-  EXPECT_NEAR(seed.guess.Value(s_index, 0.0), std::sin(1.5), 1e-8);
-  problem.frequencies = seed.frequencies;
-  HarmonicBalanceOptions o;
-  o.order = 25;
-  const HarmonicBalanceSummary s = SolveHarmonicBalance(problem, seed.guess, o);
-  ASSERT_TRUE(s.converged()) << s.FullReport();
-  EXPECT_NEAR(s.solution->frequencies()[0], e.reference.frequency, 1e-14);
+  // From the lines, then from every harmonic fitted on the record.
+  const std::vector<const frequency_id::Signal*> fits = {nullptr, &record};
+  for (const frequency_id::Signal* fit : fits) {
+    const IdentifiedGuess seed =
+        GuessFromIdentification(id, problem, HarmonicBasis::Periodic(25), Variables(e), 0, fit);
+    EXPECT_EQ(seed.fitted_harmonics > 6, fit != nullptr);  // 6 lines above 1e-8
+    EXPECT_NEAR(seed.frequencies[0], e.reference.frequency, 1e-9);  // CVODE's drift, measured 3e-11
+    const int s_index = seed.guess.IndexOf("s");
+    EXPECT_NEAR(seed.guess.Value(s_index, 0.0), std::sin(1.5), 1e-8);
+    HarmonicBalanceProblem seeded = problem;
+    seeded.frequencies = seed.frequencies;
+    HarmonicBalanceOptions o;
+    o.order = 25;
+    const HarmonicBalanceSummary s = SolveHarmonicBalance(seeded, seed.guess, o);
+    ASSERT_TRUE(s.converged()) << s.FullReport();
+    EXPECT_NEAR(s.solution->frequencies()[0], e.reference.frequency, 1e-14);
+  }
 }
 
 TEST(IdentifiedGuess, RefusesAnIdentificationWithAnotherNumberOfBases) {
