@@ -15,6 +15,15 @@ using Values = std::map<std::string, double>;
 
 Polynomial P(const PolynomialSystem& s, const char* name) { return s.Var(name); }
 
+// (A fixed-size vector assigned to a VectorXd trips GCC 12's -Warray-bounds
+// under AVX.)
+Eigen::VectorXd State(std::initializer_list<double> values) {
+  Eigen::VectorXd y(values.size());
+  int i = 0;
+  for (double v : values) y(i++) = v;
+  return y;
+}
+
 // x'' + c x' + k x + a x^3 = F cos(w t), recast x' = v (phi = 3).
 ExampleSetup Duffing(const Values& p) {
   const double c = p.at("c"), k = p.at("k"), a = p.at("a"), F = p.at("F"), w = p.at("w");
@@ -101,6 +110,7 @@ ExampleSetup VanDerPol(const Values& p) {
   // Adams at rtol 1e-13 beats BDF (order <= 5) by orders of magnitude here
   // until the relaxation gets really stiff.
   e.original.stiff = eps > 20;
+  e.original.initial_state = State({2.0, 0.0});
   e.original.state = [](const HarmonicSolution& h, double t) {
     return Eigen::Vector2d(h.Value(0, t), h.Value(1, t)).eval();
   };
@@ -147,6 +157,10 @@ ExampleSetup Pendulum(const Values& p) {
                  {},
                  25};
   e.original.names = {"theta", "theta'"};
+  e.original.initial_state = State({a, 0.0});
+  e.original.variables = [](const Eigen::VectorXd& y) {
+    return Eigen::Vector4d(y(0), y(1), std::sin(y(0)), std::cos(y(0))).eval();
+  };
   e.original.rhs = [](double, const double* y, double* dy) {
     dy[0] = y[1];
     dy[1] = -std::sin(y[0]);
@@ -198,6 +212,10 @@ ExampleSetup Relativistic(const Values& p) {
   e.original.state = [](const HarmonicSolution& h, double t) {
     return Eigen::Vector2d(h.Value(0, t), h.Value(1, t)).eval();
   };
+  e.original.initial_state = State({0.0, beta});
+  e.original.variables = [](const Eigen::VectorXd& y) {
+    return Eigen::Vector3d(y(0), y(1), std::sqrt(1 - y(1) * y(1))).eval();
+  };
   e.reference.frequency = 2 * M_PI / RelativisticPeriod(beta);
   e.reference.amplitude = A;
   e.reference.amplitude_variable = "x";
@@ -237,6 +255,9 @@ ExampleSetup RayleighPlesset(const Values& p) {
                  {},
                  30};
   e.original.names = {"R", "R'"};
+  e.original.variables = [](const Eigen::VectorXd& y) {
+    return Eigen::Vector3d(y(0), y(1), 1 / y(0)).eval();
+  };
   e.original.rhs = [=](double t, const double* y, double* dy) {
     const double r = y[0], rd = y[1];
     dy[0] = rd;
@@ -339,6 +360,7 @@ ExampleSetup AsymmetricPendulum(const Values& p) {
   ExampleSetup e{{s, guess.frequencies(), {true, true}, conditions, symmetries},
                  guess, {}, {}, 5, BeatBasis};
   e.original.names = {"x", "y", "x'", "y'"};
+  e.original.initial_state = State({x0, y0, 0, 0});
   e.original.rhs = rhs;
   e.original.state = [](const HarmonicSolution& h, double t) {
     return Eigen::Vector4d(h.Value(0, t), h.Value(1, t), h.Value(2, t), h.Value(3, t)).eval();
@@ -404,6 +426,7 @@ ExampleSetup ForcedVanDerPol(const Values& p) {
                  guess, {}, {}, 21,
                  [](int order) { return HarmonicBasis::WeightedDiamond({2, 1}, order); }};
   e.original.names = {"x", "x'"};
+  e.original.initial_state = State({2.0, 0.0});
   e.original.rhs = rhs;
   e.original.state = [](const HarmonicSolution& h, double t) {
     return Eigen::Vector2d(h.Value(0, t), h.Value(1, t)).eval();

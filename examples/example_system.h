@@ -33,6 +33,12 @@ struct OriginalOde {
   std::function<void(double t, const double* y, double* ydot)> rhs;
   std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
   bool stiff = false;  // integrate with BDF rather than Adams
+  // The state the conditions fix at t = 0 (a conservative motion), or where
+  // an attractor's simulation starts; empty when the example has none.
+  Eigen::VectorXd initial_state;
+  // Every harmonic balance variable from a state (the recast's auxiliaries
+  // from their definitions); empty when the variables are the state itself.
+  std::function<Eigen::VectorXd(const Eigen::VectorXd& y)> variables;
   int dimension() const { return static_cast<int>(names.size()); }
 };
 

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "examples/identified_guess.h"
 #include "frequency_id/frequency_identification.h"
 #include "frequency_id/signal_io.h"
 #include "integrators/cvode_integrator.h"
@@ -34,44 +35,23 @@ frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known,
   const std::vector<double>& w = source.problem.frequencies;
   for (size_t b = 0; b < w.size(); ++b)
     if (source.problem.unknown_frequency.empty() || !source.problem.unknown_frequency[b]) known->push_back(w[b]);
-  const double w_max = *std::max_element(w.begin(), w.end());
-  const double w_min = *std::min_element(w.begin(), w.end());
-  double t_end = a.t_end;
-  if (t_end <= 0) {
-    // Enough periods for round-off refinement, and enough beats to separate
-    // close bases by many FFT bins.
-    t_end = 300 * 2 * M_PI / w_min;
-    for (size_t i = 0; i < w.size(); ++i)
-      for (size_t j = i + 1; j < w.size(); ++j)
-        t_end = std::max(t_end, 20 * 2 * M_PI / std::max(std::abs(w[i] - w[j]), 1e-12));
-  }
-  if (!std::isfinite(t_end) || t_end > 1e7) throw std::invalid_argument("--t-end is too large");
-  const double transient = a.transient >= 0 ? a.transient : 0.1 * t_end;
-  if (transient >= t_end) throw std::invalid_argument("--transient must be shorter than --t-end");
-  const double dt = 2 * M_PI / w_max / a.samples_per_period;
-  const long n = static_cast<long>((t_end - transient) / dt);
-  if (n > 20'000'000) throw std::invalid_argument("the record would need " + std::to_string(n) + " samples");
-  std::vector<double> times(n);
-  for (long i = 0; i < n; ++i) times[i] = transient + i * dt;
-  const HarmonicSolution guess = source.guess(5);
-  const Eigen::VectorXd y0 = source.state(guess, 0.0);
-  integrators::IntegratorOptions io;
-  io.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf
-                           : integrators::IntegratorOptions::Method::kAdams;
-  io.relative_tolerance = 1e-13;
-  io.absolute_tolerance = 1e-15;
+  // 4 beats keep close bases 4 bins apart, enough for Hann^1; 20 took 14 s on
+  // the asymmetric pendulum for the same bases (frequency_id_benchmark, section 4).
+  examples::RecordOptions record = examples::DefaultRecord(w, a.samples_per_period, 300, 4);
+  if (a.t_end > 0) record.t_end = a.t_end;
+  record.transient = a.transient >= 0 ? a.transient : 0.1 * record.t_end;
+  if (!std::isfinite(record.t_end) || record.t_end > 1e7) throw std::invalid_argument("--t-end is too large");
+  if (record.transient >= record.t_end) throw std::invalid_argument("--transient must be shorter than --t-end");
+  record.integrator.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf
+                                          : integrators::IntegratorOptions::Method::kAdams;
+  // A conservative motion's torus is the one its initial state fixes.
+  const Eigen::VectorXd y0 = source.initial_state.size() ? source.initial_state : source.state(source.guess(5), 0.0);
   const auto start = std::chrono::steady_clock::now();
-  const integrators::IntegrationResult r =
-      source.original_dae ? integrators::IntegrateDae(source.original_dae(w), y0,
-                                                      Eigen::VectorXd::Zero(y0.size()), 0.0, times, io)
-                          : integrators::IntegrateOde(source.original(w), y0, 0.0, times, io);
+  frequency_id::Signal signal =
+      source.original_dae
+          ? examples::RecordTrajectory(source.original_dae(w), y0, record, source.state_names)
+          : examples::RecordTrajectory(source.original(w), y0, record, source.state_names);
   *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!r.ok()) throw std::runtime_error("integration failed: " + r.message);
-  frequency_id::Signal signal;
-  signal.dt = dt;
-  signal.t0 = transient;
-  signal.samples = r.trajectory.states;
-  signal.channel_names = source.state_names;
   return signal;
 }
 

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "rmhb/cli/analyze_command.h"
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/continuation_command.h"
 #include "rmhb/cli/exit_codes.h"
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
       "montecarlo", "Random starts solved by RHB and HDHB: the distinct solutions each finds, classified\n"
                     "physical-stable, physical-unstable or non-physical (the paper's Table 1).");
   AddMonteCarloOptions(montecarlo_cmd, &montecarlo);
+
   SimulateArgs simulate;
   CLI::App* simulate_cmd = app.add_subcommand(
       "simulate", "Integrate the ORIGINAL equations with SUNDIALS CVODE from the model's initial\n"
@@ -67,6 +69,13 @@ int main(int argc, char** argv) {
       "convergence", "Error against run time for each order: RHB, HDHB and HB-AFT side by side,\n"
                      "and for non-polynomial models RHB-Taylor and HB-AFT on the original equations.");
   AddConvergenceOptions(convergence_cmd, &convergence);
+
+  AnalyzeArgs analyze;
+  CLI::App* analyze_cmd = app.add_subcommand(
+      "analyze", "Integrate, identify the base frequencies, seed and solve RHB/RMHB, validate:\n"
+                 "every stage's error and run time in one report. --frequencies skips identification.\n"
+                 "Exit 3 when the identification or the solve fails (status says which).");
+  AddAnalyzeOptions(analyze_cmd, &analyze);
 
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;
@@ -93,6 +102,7 @@ int main(int argc, char** argv) {
     if (*montecarlo_cmd) return RunMonteCarlo(montecarlo);
     if (*simulate_cmd) return RunSimulate(simulate);
     if (*convergence_cmd) return RunConvergence(convergence);
+    if (*analyze_cmd) return RunAnalyze(analyze);
   } catch (const rmhb::model::ModelError& e) {
     std::fprintf(stderr, "rmhb: error: %s\n", e.what());
     return kExitBadInput;

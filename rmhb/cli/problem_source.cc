@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "rmhb/model/model_definition.h"
@@ -33,6 +34,10 @@ ProblemSource FromExample(const std::string& name, const std::map<std::string, d
   };
   p.state = setup->original.state;
   p.state_names = setup->original.names;
+  p.initial_state = setup->original.initial_state;
+  p.variables = [setup](const std::vector<double>&, const std::vector<Eigen::VectorXd>& y) {
+    return setup->original.variables ? setup->original.variables(y[0]) : y[0];
+  };
   p.stiff = setup->original.stiff;
   p.reference = setup->reference;
   p.recast_report = setup->problem.system.ToString();
@@ -77,6 +82,22 @@ ProblemSource FromFile(const std::string& path, const std::map<std::string, doub
       return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<long>(v.size())).eval();
     };
     p.state_names = recast->original->state_names;
+    if (recast->initial_state)
+      p.initial_state = Eigen::Map<const Eigen::VectorXd>(recast->initial_state->data(),
+                                                          static_cast<long>(recast->initial_state->size()));
+    // User variable v's derivative j: a state while j is below its order,
+    // then the time derivative of its highest state.
+    const std::vector<int> orders = recast->original->orders;
+    for (size_t v = 0; v < orders.size(); ++v)
+      p.state_derivatives = std::max(p.state_derivatives, recast->user_derivatives[v] - orders[v] + 1);
+    p.variables = [recast, orders](const std::vector<double>& theta, const std::vector<Eigen::VectorXd>& y) {
+      std::vector<double> user;
+      int offset = 0;
+      for (size_t v = 0; v < orders.size(); offset += orders[v], ++v)
+        for (int j = 0; j <= recast->user_derivatives[v]; ++j)
+          user.push_back(j < orders[v] ? y[0](offset + j) : y[j - orders[v] + 1](offset + orders[v] - 1));
+      return recast->variables_from_user(theta, user);
+    };
   } else {
     p.original_error = recast->original_error;
   }

@@ -15,6 +15,7 @@
 #include <Eigen/Dense>
 
 #include "examples/example_system.h"
+#include "examples/identified_guess.h"
 #include "integrators/ode_system.h"
 #include "rmhb/collocation_residual.h"
 #include "rmhb/harmonic_solution.h"
@@ -41,6 +42,11 @@ struct ProblemSource {
   std::function<integrators::DaeSystem(const std::vector<double>& w)> original_dae;
   std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
   std::vector<std::string> state_names;
+  // Where a trajectory for identification starts (empty: the guess at t = 0),
+  // and every variable from the state and its derivatives on a torus.
+  Eigen::VectorXd initial_state;
+  examples::StateToVariables variables;
+  int state_derivatives = 0;
   bool stiff = false;
   std::string original_error;  // why there is no original system, if so
   examples::Reference reference;

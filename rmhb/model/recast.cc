@@ -169,7 +169,7 @@ class Recaster {
     source_ = -1;
 
     // 5. Guess.
-    result.guess = BuildGuess(system);
+    BuildGuess(system, &result);
 
     // 6. The original system for the integrators.
     try {
@@ -630,8 +630,9 @@ class Recaster {
   // angles, then each auxiliary's definition on the values before it. A guess
   // outside a definition's domain (log of a negative value, 1/0) gives a
   // non-finite value that InitialGuess reports, instead of failing here.
-  std::function<Eigen::VectorXd(const std::vector<double>&)> BuildGuess(
-      const PolynomialSystem& system) {
+  // Sets result->guess and result->variables_from_user (the guess is the
+  // latter on the guessed user values).
+  void BuildGuess(const PolynomialSystem& system, RecastResult* result) {
     const int d = static_cast<int>(bases_.symbols.size());
     std::vector<GiNaC::symbol> angles;
     for (int i = 0; i < d; ++i) angles.emplace_back("theta" + std::to_string(i + 1));
@@ -640,8 +641,10 @@ class Recaster {
     std::vector<ex> inputs(angles.begin(), angles.end());
     std::vector<ex> user_values;
     std::vector<int> output_variable;  // recast variable of each user value, or -1
+    result->user_derivatives.clear();
     for (std::size_t v = 0; v < chain_.size(); ++v) {
       ex g = Substituted(s_.guess[v]);
+      result->user_derivatives.push_back(chain_[v]);
       for (int j = 0; j <= chain_[v]; ++j) {
         const ex& sym = s_.derivatives[v][j];
         inputs.push_back(sym);
@@ -680,11 +683,14 @@ class Recaster {
     guess->num_angles = d;
     guess->num_inputs = static_cast<int>(inputs.size());
     guess->num_variables = system.num_variables();
-    return [guess](const std::vector<double>& theta) {
+    auto from_user = [guess](const std::vector<double>& theta, const std::vector<double>& values) {
+      if (theta.size() != static_cast<std::size_t>(guess->num_angles) ||
+          values.size() != guess->output_variable.size())
+        throw std::invalid_argument("variables_from_user: wrong number of angles or user values");
       std::vector<double> in(guess->num_inputs), work;
       for (int i = 0; i < guess->num_angles; ++i) in[i] = theta[i];
       double* user = in.data() + guess->num_angles;
-      guess->user.Evaluate(theta.data(), user, &work);
+      for (std::size_t k = 0; k < values.size(); ++k) user[k] = values[k];
       Eigen::VectorXd out = Eigen::VectorXd::Zero(guess->num_variables);
       for (std::size_t k = 0; k < guess->output_variable.size(); ++k)
         if (guess->output_variable[k] >= 0) out(guess->output_variable[k]) = user[k];
@@ -694,6 +700,12 @@ class Recaster {
         out(guess->aux_variable[a]) = aux[a];
       }
       return out;
+    };
+    result->variables_from_user = from_user;
+    result->guess = [guess, from_user](const std::vector<double>& theta) {
+      std::vector<double> user(guess->output_variable.size()), work;
+      guess->user.Evaluate(theta.data(), user.data(), &work);
+      return from_user(theta, user);
     };
   }
 

@@ -86,6 +86,14 @@ struct RecastResult {
   // theta_i = w_i t (the model's guess sampled, auxiliaries from their
   // definitions). Variables without a guess are 0.
   std::function<Eigen::VectorXd(const std::vector<double>& theta)> guess;
+  // Every recast variable at torus angles theta from the user variables and
+  // their time derivatives, `user` = (x, x', ..., x^(user_derivatives[0]),
+  // y, y', ...): states read off, auxiliaries from their definitions. How a
+  // guess measured on a trajectory reaches the auxiliaries
+  // (examples/identified_guess.h); `guess` is this on the guessed values.
+  std::function<Eigen::VectorXd(const std::vector<double>& theta, const std::vector<double>& user)>
+      variables_from_user;
+  std::vector<int> user_derivatives;  // per user variable, its highest derivative in `user`
 
   // The guess projected on the basis MakeBasis gives for `order`. Throws
   // ModelError if the guess is not finite somewhere (e.g. log of a negative

@@ -443,3 +443,31 @@ TEST(Recast, ReportShowsDefinitionsEquationsAndDegree) {
 
 }  // namespace
 }  // namespace rmhb::model
+
+namespace rmhb::model {
+namespace {
+
+// variables_from_user: states read off the user values, auxiliaries from
+// their definitions, including one of the top derivative (sin(x') needs x'').
+TEST(Recast, VariablesFromUserValues) {
+  const RecastResult r = RecastText(
+      "variables: [theta]\nparameters: {theta0: 1.5}\nequations: [\"theta'' + sin(theta) = 0\"]\n"
+      "frequencies: [{guess: 0.86}]\nconditions: [\"theta(0) = theta0\", \"theta'(0) = 0\"]\n");
+  ASSERT_EQ(r.user_derivatives, std::vector<int>{2});  // theta, theta', theta''
+  const Eigen::VectorXd z = r.variables_from_user({0.0}, {0.7, -0.3, -std::sin(0.7)});
+  ASSERT_EQ(z.size(), 4);
+  EXPECT_EQ(z(0), 0.7);
+  EXPECT_EQ(z(1), -0.3);
+  EXPECT_NEAR(z(2), std::sin(0.7), 1e-15);
+  EXPECT_NEAR(z(3), std::cos(0.7), 1e-15);
+  const RecastResult top = RecastText(
+      "variables: [x]\nequations: [\"x' + x + sin(x')/10 = cos(w*t)\"]\nfrequencies: [1]\n");
+  ASSERT_EQ(top.user_derivatives, std::vector<int>{2});  // x, x', x''
+  const Eigen::VectorXd y = top.variables_from_user({0.0}, {0.1, 0.4, 2.0});
+  EXPECT_EQ(y(1), 0.4);  // x_d1 = x'
+  EXPECT_NEAR(y(2), std::sin(0.4), 1e-15);
+  EXPECT_THROW(top.variables_from_user({0.0}, {0.1, 0.4}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rmhb::model
