@@ -28,11 +28,6 @@ bool Unknown(const HarmonicBalanceProblem& p, int b) {
   return !p.unknown_frequency.empty() && p.unknown_frequency[b];
 }
 
-// The state the record starts from: the model's initial state, or the guess.
-Eigen::VectorXd StartState(const ProblemSource& source, const HarmonicSolution& guess) {
-  return source.initial_state.size() ? source.initial_state : source.state(guess, 0.0);
-}
-
 }  // namespace
 
 void AddAnalyzeOptions(CLI::App* app, AnalyzeArgs* a) {
@@ -101,7 +96,7 @@ int RunAnalyze(const AnalyzeArgs& a) {
                                             : integrators::IntegratorOptions::Method::kAdams;
     auto t0 = Clock::now();
     const frequency_id::Signal signal = examples::RecordTrajectory(
-        source.original(problem.frequencies), StartState(source, guess), record, source.state_names);
+        source.original(problem.frequencies), source.initial_state, record, source.state_names);
     const double record_seconds = Since(t0);
     char text[512];
     std::snprintf(text, sizeof text, "%-10s %9.1f ms  CVODE %s rtol %.0e: %d samples, t in [%g, %g], dt %.4g",

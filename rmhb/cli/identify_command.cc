@@ -45,7 +45,7 @@ frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known,
   record.integrator.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf
                                           : integrators::IntegratorOptions::Method::kAdams;
   // A conservative motion's torus is the one its initial state fixes.
-  const Eigen::VectorXd y0 = source.initial_state.size() ? source.initial_state : source.state(source.guess(5), 0.0);
+  const Eigen::VectorXd& y0 = source.initial_state;
   const auto start = std::chrono::steady_clock::now();
   frequency_id::Signal signal =
       source.original_dae

@@ -34,14 +34,14 @@ ProblemSource FromExample(const std::string& name, const std::map<std::string, d
   };
   p.state = setup->original.state;
   p.state_names = setup->original.names;
-  p.initial_state = setup->original.initial_state;
   p.variables = [setup](const std::vector<double>&, const std::vector<Eigen::VectorXd>& y) {
     return setup->original.variables ? setup->original.variables(y[0]) : y[0];
   };
   p.stiff = setup->original.stiff;
   p.reference = setup->reference;
   p.recast_report = setup->problem.system.ToString();
-  p.initial_state = p.state(setup->guess, 0.0);
+  p.initial_state = setup->original.initial_state.size() ? setup->original.initial_state
+                                                         : p.state(setup->guess, 0.0);
   for (int i = 0; i < setup->original.dimension(); ++i) p.state_sources.push_back({i, 0});
   int pins = 0;
   for (const auto& e : setup->problem.system.equations()) pins += e.balance_constant ? 0 : 1;
@@ -82,9 +82,6 @@ ProblemSource FromFile(const std::string& path, const std::map<std::string, doub
       return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<long>(v.size())).eval();
     };
     p.state_names = recast->original->state_names;
-    if (recast->initial_state)
-      p.initial_state = Eigen::Map<const Eigen::VectorXd>(recast->initial_state->data(),
-                                                          static_cast<long>(recast->initial_state->size()));
     // User variable v's derivative j: a state while j is below its order,
     // then the time derivative of its highest state.
     const std::vector<int> orders = recast->original->orders;
