@@ -41,7 +41,7 @@ ProblemSource FromExample(const std::string& name, const std::map<std::string, d
   p.stiff = setup->original.stiff;
   p.reference = setup->reference;
   p.recast_report = setup->problem.system.ToString();
-  p.initial_state = p.state(setup->guess, 0.0);
+  if (p.initial_state.size() == 0) p.initial_state = p.state(setup->guess, 0.0);
   for (int i = 0; i < setup->original.dimension(); ++i) p.state_sources.push_back({i, 0});
   int pins = 0;
   for (const auto& e : setup->problem.system.equations()) pins += e.balance_constant ? 0 : 1;

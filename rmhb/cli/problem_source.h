@@ -42,17 +42,16 @@ struct ProblemSource {
   std::function<integrators::DaeSystem(const std::vector<double>& w)> original_dae;
   std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
   std::vector<std::string> state_names;
-  // Where a trajectory for identification starts (empty: the guess at t = 0),
-  // and every variable from the state and its derivatives on a torus.
-  Eigen::VectorXd initial_state;
+  // Every variable from the state and its derivatives on a torus.
   examples::StateToVariables variables;
   int state_derivatives = 0;
   bool stiff = false;
   std::string original_error;  // why there is no original system, if so
   examples::Reference reference;
   std::string recast_report;   // the polynomial system, readable
-  // Where the model starts (simulate): its initial_state, or else the
-  // guess's state at t = 0 (the examples' guesses meet their conditions).
+  // Where the model starts (simulate, identify's trajectory): its
+  // initial_state, or else the guess's state at t = 0 (the examples' guesses
+  // meet their conditions).
   Eigen::VectorXd initial_state;
   // Where each original state lives among the recast variables (examples:
   // state i is recast variable i), and how many of the problem's conditions
