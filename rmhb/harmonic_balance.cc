@@ -11,7 +11,7 @@ namespace rmhb {
 
 std::string HarmonicBalanceOptions::IsValid() const {
   if (order < 1) return "order must be >= 1 (got " + std::to_string(order) + ")";
-  if (order > 20000) return "order " + std::to_string(order) + " is unreasonably large";
+  if (!(max_jacobian_bytes > 0)) return "max_jacobian_bytes must be > 0";
   if (!(max_gcd_excess > 0)) return "max_gcd_excess must be > 0";
   if (!(tolerance >= 0) || !std::isfinite(tolerance))
     return "tolerance must be finite and >= 0 (0: fixed order)";
@@ -35,6 +35,64 @@ HarmonicBasis MakeBasis(int num_bases, const HarmonicBalanceOptions& options) {
   }
   return options.shape == BasisShape::kBox ? HarmonicBasis::Box(num_bases, options.order)
                                            : HarmonicBasis::Diamond(num_bases, options.order);
+}
+
+namespace {
+
+// Points k of Z^d with |k|_1 <= p: the coefficients per variable of the
+// diamond basis (each harmonic but k = 0 carries a cosine and a sine, and
+// k, -k are one harmonic). sum_j 2^j C(d, j) C(p, j).
+double DiamondCoefficients(int d, int p) {
+  double total = 0, cd = 1, cp = 1;
+  for (int j = 0; j <= std::min(d, p); ++j) {
+    total += std::ldexp(cd * cp, j);
+    cd = cd * (d - j) / (j + 1);
+    cp = cp * (p - j) / (j + 1);
+  }
+  return total;
+}
+
+double CoefficientsPerVariable(int d, const HarmonicBalanceOptions& options) {
+  const int p = options.order;
+  if (d == 1) return 2.0 * p + 1;
+  // A problem-specific basis has no formula; build it while that is cheap
+  // (it fits in its box), else size it like the diamond.
+  if (options.basis_for_order && std::pow(2.0 * p + 1, d) <= 4e6)
+    return MakeBasis(d, options).num_coefficients();
+  if (options.shape == BasisShape::kBox && !options.basis_for_order) return std::pow(2.0 * p + 1, d);
+  return DiamondCoefficients(d, p);
+}
+
+std::string Gib(double bytes) {
+  std::ostringstream out;
+  out.precision(3);
+  out << bytes / double(1L << 30) << " GiB";
+  return out.str();
+}
+
+}  // namespace
+
+JacobianSize DenseJacobianSize(const HarmonicBalanceProblem& problem,
+                               const HarmonicBalanceOptions& options) {
+  const double c = CoefficientsPerVariable(static_cast<int>(problem.frequencies.size()), options);
+  JacobianSize size;
+  size.columns = problem.system.num_variables() * c + problem.num_unknown_frequencies();
+  // A pinned equation trades its constant row for a condition (METHOD.md s.4).
+  size.rows = problem.system.num_equations() * c + double(problem.conditions.size());
+  for (const auto& e : problem.system.equations()) size.rows -= e.balance_constant ? 0 : 1;
+  return size;
+}
+
+void CheckJacobianSize(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions& options) {
+  const JacobianSize size = DenseJacobianSize(problem, options);
+  if (size.bytes() <= options.max_jacobian_bytes) return;
+  std::ostringstream msg;
+  msg.precision(15);
+  msg << "order " << options.order << " needs a dense Jacobian of " << size.rows << " x "
+      << size.columns << " doubles (" << Gib(size.bytes()) << "); the limit is "
+      << Gib(options.max_jacobian_bytes)
+      << " (set by HarmonicBalanceOptions::max_jacobian_bytes, --max-jacobian-gib)";
+  throw std::invalid_argument(msg.str());
 }
 
 std::string HarmonicBalanceSummary::BriefReport() const {
@@ -238,7 +296,13 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   std::vector<int> tried = {o.order};
   // Too low a start can have no solution near the physical one (the
   // pendulum near its separatrix at N = 25): start higher rather than fail.
-  while (!current.converged() && 2 * o.order <= options.max_order && tried.size() < 4) {
+  auto fit = [&](int order) {
+    HarmonicBalanceOptions probe = o;
+    probe.order = order;
+    return DenseJacobianSize(problem, probe).bytes() <= options.max_jacobian_bytes;
+  };
+  while (!current.converged() && 2 * o.order <= options.max_order && fit(2 * o.order) &&
+         tried.size() < 4) {
     o.order *= 2;
     current = SolveWithContinuation(problem, initial_guess, o);
     tried.push_back(o.order);
@@ -250,10 +314,30 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
                        s.solver.message;
     return s;
   };
+  // The largest order whose dense Jacobian fits: the sizes grow with the order.
+  int fits = o.order;
+  for (int lo = o.order, hi = options.max_order; lo <= hi;) {
+    const int mid = lo + (hi - lo) / 2;
+    if (fit(mid))
+      fits = mid, lo = mid + 1;
+    else
+      hi = mid - 1;
+  }
   double estimate = INFINITY;
   for (;;) {
     if (!current.converged() || !current.solution)
       return stop(current, "the solve at order " + std::to_string(o.order) + " failed");
+    if (o.order >= fits && fits < options.max_order) {
+      HarmonicBalanceOptions above = o;
+      above.order = fits + 1;
+      std::ostringstream why;
+      why << "tolerance " << options.tolerance << " not reached by order " << fits
+          << ", the largest whose dense Jacobian fits in " << Gib(options.max_jacobian_bytes)
+          << " (order " << fits + 1 << " would need " << Gib(DenseJacobianSize(problem, above).bytes())
+          << "; max_jacobian_bytes, --max-jacobian-gib) (estimated error " << estimate << ")";
+      current.truncation_estimate = estimate;
+      return stop(current, why.str());
+    }
     if (o.order >= options.max_order) {
       std::ostringstream why;
       why << "tolerance " << options.tolerance << " not reached by max_order "
@@ -265,8 +349,8 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
     // of nearly equal orders says little) and at most double.
     const int predicted = PredictOrder(*current.solution, 0.1 * options.tolerance);
     const int least = o.order + std::max(2, o.order / 4);
-    const int next =
-        std::min(options.max_order, std::clamp(predicted + 2, least, std::max(least, 2 * o.order)));
+    const int next = std::min({options.max_order, fits,
+                               std::clamp(predicted + 2, least, std::max(least, 2 * o.order))});
     HarmonicBalanceOptions n = o;
     n.order = next;
     n.order_continuation = false;  // warm-started from the previous order
@@ -306,6 +390,7 @@ HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& proble
   if (std::string why = options.IsValid(); !why.empty())
     throw std::invalid_argument("invalid options: " + why);
   problem.Validate();
+  CheckJacobianSize(problem, options);
   if (initial_guess.num_variables() != problem.system.num_variables())
     throw std::invalid_argument("initial guess has " + std::to_string(initial_guess.num_variables()) +
                                 " variables, the system " +

@@ -54,6 +54,12 @@ struct HarmonicBalanceOptions {
   // round-off (unknown frequencies) needs even more.
   double max_gcd_excess = 16;
   long max_samples = 20'000'000;  // refuse larger grids up front (memory)
+  // Refuse up front (std::invalid_argument naming the size) an order whose
+  // dense Jacobian, residual rows x unknowns doubles before condensation,
+  // would need more than this: a clear error instead of std::bad_alloc, an
+  // OOM kill or an hour-long LU. Order selection stops at the largest order
+  // under it. 4 GiB is about 23000 unknowns, minutes per factorisation.
+  double max_jacobian_bytes = 4.0 * (1L << 30);
   // Solve at lower orders first (N/4, N/2, ...) and warm-start: a high-order
   // solve then needs one or two iterations of the large system.
   bool order_continuation = true;
@@ -105,6 +111,21 @@ HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& proble
 // Largest change between two solutions of one problem at different orders,
 // as order selection measures it (see HarmonicBalanceOptions::tolerance).
 double SolutionDifference(const HarmonicSolution& a, const HarmonicSolution& b);
+
+// Rows and columns of the dense Jacobian at options.order (before
+// condensation and symmetries, which only shrink it), counted without
+// building the basis when it has a closed form.
+struct JacobianSize {
+  double rows = 0, columns = 0;
+  double bytes() const { return 8 * rows * columns; }
+};
+JacobianSize DenseJacobianSize(const HarmonicBalanceProblem& problem,
+                               const HarmonicBalanceOptions& options);
+// Throws std::invalid_argument ("order N needs a dense Jacobian of R x C
+// doubles (X GiB); the limit is Y GiB ...") above options.max_jacobian_bytes.
+// SolveHarmonicBalance calls it; callers that build a guess at the order
+// first (a simulation, a random start) call it before.
+void CheckJacobianSize(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions& options);
 
 // The basis the options describe for `num_bases` base frequencies.
 HarmonicBasis MakeBasis(int num_bases, const HarmonicBalanceOptions& options);

@@ -206,6 +206,10 @@ MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
   summary.order = options.solve.order;
   summary.reference_order =
       options.reference_order > 0 ? options.reference_order : std::max(40, 8 * options.solve.order);
+  HarmonicBalanceOptions reference = options.solve;
+  reference.order = summary.reference_order;
+  CheckJacobianSize(problem, options.solve);
+  CheckJacobianSize(problem, reference);
   const int wanted = options.threads > 0 ? options.threads
                                          : static_cast<int>(std::thread::hardware_concurrency());
   summary.threads = static_cast<int>(std::clamp<long>(wanted, 1, options.starts));

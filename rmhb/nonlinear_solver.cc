@@ -341,9 +341,12 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     // Slow progress at a tiny step is a least-squares floor, not a failure.
     if (stalled >= 3 && s.final_step <= 1e3 * options.step_tolerance * (1 + MaxAbs(*x))) break;
   }
-  if (method == SolverMethod::kNewton && s.reciprocal_condition == 0 && s.iterations == 0) {
-    // Converged at the start (a warm start from a lower order): J is the
-    // final Jacobian and the summary still owes its condition.
+  if (s.reciprocal_condition == 0 && (method != SolverMethod::kNewton || s.iterations == 0)) {
+    // Converged at the start (a warm start from a lower order), or a
+    // regularised method that never factorised J itself: J is the final
+    // Jacobian and the summary still owes its condition (one factorisation,
+    // the cost of one more iteration). It is what says how near singular
+    // the unregularised problem is (METHOD.md s.5).
     factorization.Factor(J);
     s.reciprocal_condition = factorization.reciprocal_condition();
   }

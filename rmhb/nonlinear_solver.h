@@ -89,8 +89,9 @@ struct SolverSummary {
   // Cheap reciprocal condition of the last factorised Newton Jacobian, free
   // with every Newton solve (O(n^2) on top of the O(n^3) factorisation): the
   // LU's 1-norm estimate (Hager/Higham) when square, min/max |R_ii| of the QR
-  // when overdetermined (a rough lower bound on the true 1/cond). 0 when not
-  // computed (regularised methods). Near 1e-16 the last digits of the
+  // when overdetermined (a rough lower bound on the true 1/cond). The
+  // regularised methods factorise their final J once for it. 0 when not
+  // computed (the solve failed before a Jacobian). Near 1e-16 the last digits of the
   // solution are not to be trusted whatever the residual says.
   double reciprocal_condition = 0;
   double seconds = 0;

@@ -17,6 +17,7 @@
 #include "integrators/cvode_integrator.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/plot.h"
+#include "rmhb/cli/solve_stability.h"
 #include "rmhb/harmonic_balance.h"
 
 namespace rmhb::cli {
@@ -56,6 +57,10 @@ void AddSolveOptions(CLI::App* app, SolveArgs* a) {
   app->add_flag("--validate", a->validate,
                 "Integrate the original equations with SUNDIALS from the solution's initial "
                 "state and report the maximum error");
+  app->add_flag("--stability", a->stability,
+                "Floquet multipliers of a converged periodic solution by Hill's method and by the "
+                "CVODE monodromy matrix of the original equations, their agreement, and the "
+                "verdict (stable, unstable, or neutral within 1e-6 of the unit circle); --json: a `stability` object");
   app->add_option("--validate-periods", a->validate_periods, "Periods to integrate (default 1)")
       ->check(CLI::Range(1, 100000));
   app->add_option("--plot", a->plot,
@@ -212,7 +217,7 @@ int RunSolve(const SolveArgs& a) {
     out["order_selection"] = {{"tolerance", options.tolerance},
                               {"orders", summary.orders_tried},
                               {"estimate", Number(summary.truncation_estimate)}};
-  // null when not computed (no Newton factorisation, e.g. Levenberg-Marquardt).
+  // null when not computed (the solve failed before a Jacobian was factorised).
   out["reciprocal_condition"] =
       summary.solver.reciprocal_condition > 0 ? Number(summary.solver.reciprocal_condition) : json(nullptr);
   out["samples"] = summary.samples.size() == 1 ? json(summary.samples[0]) : json(summary.samples);
@@ -267,6 +272,7 @@ int RunSolve(const SolveArgs& a) {
                   {"seconds", v.seconds}, {"integrator", v.integrator}, {"message", v.message}};
     out["validation"] = validation;
   }
+  if (a.stability && converged) out["stability"] = StabilityJson(source, sol);
   if (!a.eval.empty() && converged) {
     const std::vector<double> range = ParseNumberList(a.eval, "--eval");
     if (range.size() != 3 || !(range[1] > 0) || range[2] < range[0])
@@ -335,6 +341,7 @@ int RunSolve(const SolveArgs& a) {
         if (reference.contains("max_error"))
           std::printf("error        max over one period %.3e\n", reference["max_error"].get<double>());
       }
+      if (out.contains("stability")) PrintStability(out["stability"]);
       if (!validation.is_null() && validation["max_error"].is_null())
         std::printf("validation   failed: %s integration did not finish: %s (%.1f ms)\n",
                     validation["integrator"].get<std::string>().c_str(),

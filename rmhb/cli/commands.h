@@ -17,6 +17,7 @@ namespace rmhb::cli {
 struct SolveArgs {
   SolveSettings settings;
   bool validate = false;
+  bool stability = false;   // Floquet multipliers by Hill's method and CVODE
   int validate_periods = 1;
   bool json = false;
   bool quiet = false;

@@ -132,6 +132,7 @@ struct Cell {
   int samples = 0;
   int iterations = 0;
   double residual = kNaN, seconds = kNaN;
+  double reciprocal_condition = kNaN;  // of the final Jacobian (SolverSummary)
   double frequency_error = kNaN, amplitude_error = kNaN, max_error = kNaN, trajectory_error = kNaN;
   double error = kNaN;  // the table's measure
 };
@@ -199,6 +200,7 @@ Cell Run(const ProblemSource& source, const Column& column, int order, int repea
   cell.message = s.solver.message;
   cell.samples = s.samples.empty() ? 0 : s.samples[0];
   cell.iterations = s.solver.iterations;
+  if (s.solver.reciprocal_condition > 0) cell.reciprocal_condition = s.solver.reciprocal_condition;
   cell.residual = s.solver.final_residual;
   cell.seconds = s.seconds;
   if (s.converged()) Measure(source, *s.solution, column.state, &cell);
@@ -208,6 +210,7 @@ Cell Run(const ProblemSource& source, const Column& column, int order, int repea
 json CellJson(int order, const Cell& c) {
   return {{"order", order}, {"status", c.status}, {"message", c.message}, {"samples", c.samples},
           {"iterations", c.iterations}, {"residual", Number(c.residual)}, {"seconds", Number(c.seconds)},
+          {"reciprocal_condition", Number(c.reciprocal_condition)},
           {"error", Number(c.error)}, {"frequency_error", Number(c.frequency_error)},
           {"amplitude_error", Number(c.amplitude_error)}, {"max_error", Number(c.max_error)},
           {"trajectory_error", Number(c.trajectory_error)}};
@@ -344,6 +347,9 @@ int RunConvergence(const ConvergenceArgs& a) {
   PreparedSolve prepared = PrepareSolve(settings);
   const ProblemSource& source = prepared.source;
   const HarmonicBalanceOptions base_options = prepared.options;
+  HarmonicBalanceOptions highest = base_options;
+  highest.order = *std::max_element(orders.begin(), orders.end());
+  CheckJacobianSize(source.problem, highest);
   const bool periodic = source.problem.frequencies.size() == 1;
   bool auxiliaries = false;
   for (const auto& v : source.problem.system.variables()) auxiliaries |= v.role == VariableRole::kAuxiliary;

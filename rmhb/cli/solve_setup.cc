@@ -47,6 +47,21 @@ void ApplyFrequencies(const std::string& text, HarmonicBalanceProblem* problem) 
   }
 }
 
+// "1e9" as 1000000000 for integer options, so that a size written as a
+// power of ten reaches the size checks (exit 2 naming the memory it needs)
+// instead of a conversion error. Anything else is left to CLI11.
+std::string WholeNumber(std::string text) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return text;
+  }
+  if (used != text.size() || v != std::floor(v) || std::abs(v) > 2147483647.0) return text;
+  return std::to_string(static_cast<long>(v));
+}
+
 }  // namespace
 
 json Number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
@@ -81,6 +96,7 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
   app->add_option("--order,-N,--p", a->order,
                   "Harmonic order: N for one base frequency, p (|m|+|n| <= p) for several "
                   "(default: the model's)")
+      ->transform(WholeNumber)
       ->each([a](const std::string&) { a->order_given = true; });
   app->add_option("--frequencies", a->frequencies,
                   "Base frequencies w1[,w2]: values of known ones, guesses of unknown ones; "
@@ -96,6 +112,7 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
   app->add_option("--samples,-M", a->samples,
                   "Collocation samples M (default: by --method; below the alias-free bound "
                   "needs --allow-aliasing)")
+      ->transform(WholeNumber)
       ->each([a](const std::string&) { a->samples_given = true; });
   app->add_option("--method", a->method,
                   "rhb (alias-free M, default), hdhb (M = 2N+1, aliases), aft (M = 2^k >= 2 phi N+1)")
@@ -114,6 +131,9 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
                   "raise it warm-started until two successive orders agree to TOL (relative "
                   "frequency, scaled coefficients); reports the orders tried and the estimate. "
                   "Not reached by --max-order: exit 3");
+  app->add_option("--max-jacobian-gib", a->max_jacobian_gib,
+                  "Refuse (exit 2) an order whose dense Jacobian needs more than this many GiB; "
+                  "--tol stops at the largest order under it (default 4)");
   app->add_option("--max-order", a->max_order, "Highest order --tol may choose (default 5000)")
       ->check(CLI::Range(1, 20000));
 }
@@ -135,6 +155,8 @@ PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, d
     throw std::invalid_argument("--samples must be >= 1 (got " + std::to_string(a.samples) + ")");
   if (!(a.tol >= 0) || !std::isfinite(a.tol))
     throw std::invalid_argument("--tol must be a finite number >= 0 (got " + std::to_string(a.tol) + ")");
+  if (!(a.max_jacobian_gib > 0) || !std::isfinite(a.max_jacobian_gib))
+    throw std::invalid_argument("--max-jacobian-gib must be finite and > 0");
   ProblemSource source = LoadSolveProblem(a, overrides);
   HarmonicBalanceProblem& problem = source.problem;
   const int bases = static_cast<int>(problem.frequencies.size());
@@ -154,6 +176,8 @@ PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, d
       a.sampling == "gcd" ? QuasiPeriodicSampling::kGcd : QuasiPeriodicSampling::kTorus;
   // An explicit --basis overrides the example's own index set.
   if (source.basis_for_order && !a.shape_given) options.basis_for_order = source.basis_for_order;
+  options.max_jacobian_bytes = a.max_jacobian_gib * double(1L << 30);
+  CheckJacobianSize(problem, options);  // before a guess at that order is built
   HarmonicSolution guess = GuessAtOrder(source, options.order);
   return PreparedSolve{std::move(source), std::move(options), std::move(guess)};
 }

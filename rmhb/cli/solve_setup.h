@@ -39,6 +39,7 @@ struct SolveSettings {
   bool shape_given = false;
   double tol = 0;  // > 0: choose the order automatically (HarmonicBalanceOptions::tolerance)
   int max_order = 5000;  // the order selection's limit
+  double max_jacobian_gib = 4;  // HarmonicBalanceOptions::max_jacobian_bytes in GiB
 };
 
 // The model positional argument and the options above.
