@@ -4,30 +4,19 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <array>
+#include "tests/cli/cli_run.h"
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
 
-struct CliRun {
-  int code;
-  std::string out;
-};
+using rmhb::testing::Capture;
+using rmhb::testing::Cli;
+using rmhb::testing::CliRun;
 
-CliRun Capture(const std::string& cmd) {
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-CliRun Cli(const std::string& args) { return Capture(std::string(RMHB_CLI) + " " + args + " 2>&1"); }
 
 nlohmann::json Json(const std::string& args, int expected_code = 0) {
   const CliRun r = Capture(std::string(RMHB_CLI) + " " + args);

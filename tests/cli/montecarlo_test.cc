@@ -4,26 +4,17 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <array>
+#include "tests/cli/cli_run.h"
+
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
 
-struct CliRun {
-  int code;
-  std::string out;
-};
+using rmhb::testing::Capture;
+using rmhb::testing::CliRun;
 
-CliRun RunCli(const std::string& args) {
-  FILE* pipe = popen((std::string(RMHB_CLI) + " " + args).c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+CliRun RunCli(const std::string& args) { return Capture(std::string(RMHB_CLI) + " " + args); }
 
 const char* kDuffing = "montecarlo duffing --set w=2 --order 3 --seed 5 ";
 

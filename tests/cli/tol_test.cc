@@ -4,27 +4,19 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <array>
+#include "tests/cli/cli_run.h"
+
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
 
-struct CliRun {
-  int code;
-  std::string out;
-};
+using rmhb::testing::Capture;
+using rmhb::testing::CliRun;
 
 CliRun Rmhb(const std::string& args, bool with_stderr = true) {
-  const std::string cmd = std::string(RMHB_CLI) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return Capture(std::string(RMHB_CLI) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null"));
 }
 
 TEST(CliTol, ChoosesTheOrderAndReportsTheEstimate) {
