@@ -486,10 +486,13 @@ std::string IdentificationSummary::FullReport() const {
   for (std::size_t k = 0; k < components.size(); ++k) {
     const Component& c = components[k];
     char line[256];
-    std::snprintf(line, sizeof(line), "  %5zu  %-22.16g  %-8.2g  %-11s  %-11.4e  %-+8.4f  %.2g\n",
+    // An unlabelled line has no lattice point: "-", never a printed NaN.
+    const std::string residual =
+        std::isfinite(c.lattice_residual) ? Format("%.2g", c.lattice_residual) : std::string("-");
+    std::snprintf(line, sizeof(line), "  %5zu  %-22.16g  %-8.2g  %-11s  %-11.4e  %-+8.4f  %s\n",
                   k, c.frequency, c.frequency_uncertainty, LabelString(c.label).c_str(),
                   c.amplitude.size() ? c.amplitude(0) : 0.0, c.phase.size() ? c.phase(0) : 0.0,
-                  c.lattice_residual);
+                  residual.c_str());
     os << line;
   }
   os << "  time                  detection " << Format("%.3g", detection_seconds) << " s, fit "

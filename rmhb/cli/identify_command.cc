@@ -28,7 +28,8 @@ namespace {
 using nlohmann::json;
 
 // The model's own trajectory, sampled uniformly after the transient.
-frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known, double* seconds) {
+frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known, double* seconds,
+                              std::string* integrator) {
   const ProblemSource source = LoadProblem(a.model, ParseOverrides(a.set));
   if (!source.original && !source.original_dae)
     throw std::invalid_argument("cannot integrate the model: " + source.original_error);
@@ -52,7 +53,22 @@ frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known,
           ? examples::RecordTrajectory(source.original_dae(w), y0, record, source.state_names)
           : examples::RecordTrajectory(source.original(w), y0, record, source.state_names);
   *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  *integrator = source.original_dae ? "IDA" : source.stiff ? "CVODE BDF" : "CVODE Adams";
   return signal;
+}
+
+// --transient and --t-end cut a user's record too, measured from its first
+// sample (as from t = 0 for a model's record).
+void CutRecord(const IdentifyArgs& a, frequency_id::Signal* signal) {
+  const long n = signal->num_samples();
+  long first = 0, end = n;
+  if (a.transient > 0) first = std::min(n, static_cast<long>(std::ceil(a.transient / signal->dt - 1e-9)));
+  if (a.t_end > 0) end = std::min(n, static_cast<long>(std::ceil(a.t_end / signal->dt - 1e-9)));
+  if (end - first < 64)
+    throw std::invalid_argument("--transient/--t-end leave " + std::to_string(std::max(0L, end - first)) +
+                                " of the record's " + std::to_string(n) + " samples (64 needed)");
+  signal->samples = signal->samples.middleRows(first, end - first).eval();
+  signal->t0 += first * signal->dt;
 }
 
 // The windowed amplitude spectrum of the first channel, and every identified
@@ -113,9 +129,9 @@ void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
         strict ? "POSITIVE" : "NONNEGATIVE");
   };
   app->add_option("--t-end", a->t_end, "Length of the integrated record (default: 300 periods of the slowest base, and at "
-                  "least 20 beat periods of two close bases)")
+                  "least 20 beat periods of two close bases; with --signal: keep the first T time units)")
       ->check(finite_at_least(0, true));
-  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth of --t-end)")
+  app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth of --t-end; with --signal: none)")
       ->check(finite_at_least(0, false));
   app->add_option("--samples-per-period", a->samples_per_period,
                   "Samples per period of the fastest base (default 32)")
@@ -135,11 +151,13 @@ int RunIdentify(const IdentifyArgs& a) {
   frequency_id::Signal signal;
   std::vector<double> known;
   double integration_seconds = 0;
+  std::string integrator;
   if (!a.signal.empty()) {
     const frequency_id::CsvReadResult read = frequency_id::ReadSignalCsv(a.signal, &signal);
     if (!read.ok()) throw std::invalid_argument(read.message);
+    CutRecord(a, &signal);
   } else {
-    signal = Simulate(a, &known, &integration_seconds);
+    signal = Simulate(a, &known, &integration_seconds, &integrator);
   }
   frequency_id::IdentificationOptions options;
   options.window_order = a.window;
@@ -176,8 +194,8 @@ int RunIdentify(const IdentifyArgs& a) {
   } else {
     std::printf("%s\n", summary.FullReport().c_str());
     if (integration_seconds > 0)
-      std::printf("trajectory: CVODE, %d samples over %.6g time units, %.1f ms\n", summary.num_samples,
-                  summary.duration, integration_seconds * 1e3);
+      std::printf("trajectory: %s, %d samples over %.6g time units, %.1f ms\n", integrator.c_str(),
+                  summary.num_samples, summary.duration, integration_seconds * 1e3);
   }
   return summary.IsUsable() ? kExitOk : kExitNotConverged;
 }

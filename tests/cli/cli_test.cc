@@ -166,6 +166,27 @@ TEST(Cli, IdentifyFindsTheBasesOfAUserSignal) {
   EXPECT_NE(bad.out.find(":3:"), std::string::npos) << bad.out;
 }
 
+TEST(Cli, IdentifyCutsAUserSignalByTransientAndTEnd) {
+  // A transient (a decaying tone) the cut removes: then one clean line.
+  const double w = 1.3;
+  const std::string path = testing::TempDir() + "/transient_signal.csv";
+  FILE* f = fopen(path.c_str(), "w");
+  fputs("t,x\n", f);
+  for (int i = 0; i < 20000; ++i) {
+    const double t = 0.1 * i;
+    fprintf(f, "%.17g,%.17g\n", t, std::cos(w * t) + (t < 100 ? std::exp(-t) * std::cos(3.7 * t) : 0.0));
+  }
+  fclose(f);
+  const auto j = Json("identify --signal " + path + " --transient 200 --t-end 1800 --json");
+  EXPECT_EQ(j["samples"], 16000);  // t in [200, 1800)
+  EXPECT_EQ(j["status"], "SUCCESS") << j.dump(1);
+  ASSERT_EQ(j["bases"].size(), 1u);
+  EXPECT_NEAR(j["bases"][0]["frequency"].get<double>(), w, 1e-12);
+  const CliRun too_short = Cli("identify --signal " + path + " --transient 1999");
+  EXPECT_EQ(too_short.code, 2);
+  EXPECT_NE(too_short.out.find("64 needed"), std::string::npos) << too_short.out;
+}
+
 TEST(Cli, QuasiPeriodicSolveReportsHarmonicPairs) {
   const auto j = Json("solve forced-vanderpol --json");
   ASSERT_EQ(j["status"], "converged") << j.dump(1);
