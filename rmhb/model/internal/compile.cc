@@ -1,5 +1,6 @@
 #include "rmhb/model/internal/compile.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -7,6 +8,10 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "rmhb/model/internal/symbolic_tools.h"
 
 namespace rmhb::model::internal {
 
@@ -151,9 +156,16 @@ class TapeBuilder {
     if (is_a<GiNaC::symbol>(e))
       throw std::invalid_argument("the symbol '" + Str(e) + "' is not an input here");
     if (is_a<GiNaC::add>(e) || is_a<GiNaC::mul>(e)) {
-      const bool add = is_a<GiNaC::add>(e);
-      int acc = Node(e.op(0));
-      for (std::size_t i = 1; i < e.nops(); ++i) acc = Op2(add ? Op::kAdd : Op::kMul, acc, Node(e.op(i)));
+      // GiNaC orders operands by hash values that depend on where the type
+      // names were loaded (ASLR): sum them in a printed order instead, so
+      // that the floating-point result is the same in every run.
+      std::vector<std::pair<std::string, ex>> operands;
+      for (std::size_t i = 0; i < e.nops(); ++i) operands.emplace_back(Print(e.op(i)), e.op(i));
+      std::stable_sort(operands.begin(), operands.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      const Op op = is_a<GiNaC::add>(e) ? Op::kAdd : Op::kMul;
+      int acc = Node(operands[0].second);
+      for (std::size_t i = 1; i < operands.size(); ++i) acc = Op2(op, acc, Node(operands[i].second));
       return acc;
     }
     if (is_a<GiNaC::power>(e)) {
