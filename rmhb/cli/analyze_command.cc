@@ -12,7 +12,9 @@
 #include "examples/identified_guess.h"
 #include "frequency_id/frequency_identification.h"
 #include "integrators/trajectory_validation.h"
+#include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
+#include "rmhb/cli/plot.h"
 
 namespace rmhb::cli {
 namespace {
@@ -47,6 +49,9 @@ void AddAnalyzeOptions(CLI::App* app, AnalyzeArgs* a) {
   app->add_option("--validate-periods", a->validate_periods,
                   "Validate over this many periods of the slowest base (default 20)")
       ->check(CLI::Range(1, 100000));
+  app->add_option("--plot", a->plot,
+                  "Draw two periods of the solution against CVODE started on it, their difference "
+                  "and the phase portrait into FILE.png or FILE.svg (gnuplot)");
   app->add_flag("--json", a->json, "Machine-readable output");
 }
 
@@ -61,6 +66,7 @@ int RunAnalyze(const AnalyzeArgs& a) {
   if (!source.original) throw std::invalid_argument("cannot integrate the model: " + source.original_error);
   if (!std::isfinite(a.t_end) || !std::isfinite(a.transient))
     throw std::invalid_argument("--t-end and --transient must be finite numbers");
+  if (!a.plot.empty()) CheckPlotRequest(a.plot);
 
   json out, stages = json::object();
   out["model"] = a.settings.model;
@@ -238,6 +244,10 @@ int RunAnalyze(const AnalyzeArgs& a) {
   out["stages"] = stages;
   out["seconds"] = total;
   if (exit_code == kExitOk) out.update(SolutionJson(*summary->solution));
+  if (exit_code == kExitOk && !a.plot.empty()) {
+    PlotSolution(source, *summary->solution, a.plot);
+    out["plot"] = a.plot;
+  }
 
   if (a.json) {
     std::cout << out.dump(1) << "\n";

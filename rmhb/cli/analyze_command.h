@@ -24,6 +24,7 @@ struct AnalyzeArgs {
   int samples_per_period = 0;  // 0: from the basis's highest harmonic
   int window = 0;          // Hann^q, 0 = automatic
   int validate_periods = 20;
+  std::string plot;        // FILE.png|svg: the solution against CVODE
   bool json = false;
 };
 

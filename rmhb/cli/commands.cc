@@ -75,10 +75,6 @@ void AddSolveOptions(CLI::App* app, SolveArgs* a) {
       "printed), 4 internal.");
 }
 
-namespace {
-
-// Two periods of the slowest base: the solution and CVODE started on it
-// (the original equations), their difference, and the phase portrait.
 void PlotSolution(const ProblemSource& source, const HarmonicSolution& sol, const std::string& file) {
   const double period = 2 * M_PI / *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
   std::vector<double> times(801);
@@ -127,8 +123,6 @@ void PlotSolution(const ProblemSource& source, const HarmonicSolution& sol, cons
   if (n > 1) plot.panels.push_back(phase);
   WritePlot(plot, file);
 }
-
-}  // namespace
 
 int RunList(bool as_json) {
   json out = json::array();

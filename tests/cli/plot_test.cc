@@ -34,12 +34,13 @@ TEST(Plot, EveryCommandDrawsAPng) {
   if (!HaveGnuplot()) GTEST_SKIP() << "gnuplot not installed";
   const std::string dir = ::testing::TempDir();
   const std::string files[] = {dir + "plot_simulate.png", dir + "plot_convergence.png",
-                               dir + "plot_solve.png", dir + "plot_identify.png"};
+                               dir + "plot_solve.png", dir + "plot_identify.png", dir + "plot_analyze.png"};
   for (const auto& f : files) std::remove(f.c_str());
   EXPECT_EQ(Cli("simulate pendulum --t-end 10 --csv " + dir + "plot.csv --plot " + files[0]).code, 0);
   EXPECT_EQ(Cli("convergence pendulum --orders 5,10 --methods rhb,hdhb --plot " + files[1]).code, 0);
   EXPECT_EQ(Cli("solve pendulum --order 15 --quiet --plot " + files[2]).code, 0);
   EXPECT_EQ(Cli("identify vanderpol --t-end 400 --plot " + files[3]).code, 0);
+  EXPECT_EQ(Cli("analyze pendulum --frequencies ?0.86 --plot " + files[4]).code, 0);
   for (const auto& f : files) {
     EXPECT_GT(FileSize(f), 1000) << f;
     EXPECT_TRUE(IsPng(f)) << f;
