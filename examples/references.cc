@@ -3,6 +3,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "examples/example_system.h"
+#include "integrators/event_detection.h"
+#include "integrators/integrator_options.h"
+
 namespace rmhb::examples {
 
 double EllipticK(double m) {
@@ -71,6 +75,19 @@ double RelativisticPeriod(double beta) {
     previous = T;
   }
   return previous;
+}
+
+double VanDerPolPeriodByCvode(double eps) {
+  const ExampleSetup e = BuildExample("vanderpol", {{"eps", eps}});
+  integrators::OdeSystem ode{2, e.original.rhs};
+  integrators::IntegratorOptions io;
+  io.method = integrators::IntegratorOptions::Method::kBdf;
+  io.relative_tolerance = integrators::kTightestRelativeTolerance;
+  io.absolute_tolerance = 1e-17;
+  // x' crosses zero downwards only at the maxima of x: one per period.
+  return integrators::LimitCyclePeriod(ode, Eigen::Vector2d(2.0, 0.0),
+                                       12 * 2 * M_PI / e.guess.frequencies()[0],
+                                       [](double, const double* y) { return y[1]; }, -1, 2, io);
 }
 
 }  // namespace rmhb::examples

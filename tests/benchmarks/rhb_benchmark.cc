@@ -19,7 +19,6 @@
 
 #include "examples/example_system.h"
 #include "examples/references.h"
-#include "integrators/event_detection.h"
 #include "rmhb/harmonic_balance.h"
 
 using namespace rmhb;
@@ -39,19 +38,6 @@ struct Case {
   std::string label = "";  // selects the case on the command line (default: system)
 };
 
-// The limit-cycle period by CVODE BDF at the tightest practical tolerance,
-// averaged over ten settled periods (event detection on x' = 0, downwards).
-double CvodeVanDerPolPeriod(double eps) {
-  const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", eps}});
-  integrators::OdeSystem ode{2, e.original.rhs};
-  integrators::IntegratorOptions io;
-  io.method = integrators::IntegratorOptions::Method::kBdf;
-  io.relative_tolerance = integrators::kTightestRelativeTolerance;
-  io.absolute_tolerance = 1e-17;
-  return integrators::LimitCyclePeriod(ode, Eigen::Vector2d(2.0, 0.0),
-                                       12 * 2 * M_PI / e.guess.frequencies()[0],
-                                       [](double, const double* y) { return y[1]; }, -1, 2, io);
-}
 
 double MedianSeconds(const std::function<void()>& f) {
   std::vector<double> t;
@@ -114,7 +100,7 @@ int main(int argc, char** argv) {
     return [&vdp_period, eps](const HarmonicSolution& s) {
       if (!vdp_period.count(eps)) {
         const auto start = std::chrono::steady_clock::now();
-        vdp_period[eps] = CvodeVanDerPolPeriod(eps);
+        vdp_period[eps] = examples::VanDerPolPeriodByCvode(eps);
         std::printf("# Van der Pol eps = %g: CVODE BDF rtol 1e-15 period %.17g (%.2f s)\n", eps,
                     vdp_period[eps],
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "examples/example_system.h"
-#include "integrators/event_detection.h"
+#include "examples/references.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/harmonic_balance.h"
 
@@ -71,26 +71,9 @@ INSTANTIATE_TEST_SUITE_P(
 namespace rmhb {
 namespace {
 
-// Van der Pol relaxation: the period CVODE measures between successive
-// maxima of x once the orbit has settled on the limit cycle (BDF at the
-// tightest practical tolerance, event detection polished to round-off,
-// averaged over ten periods), the reference for harmonic balance.
-double CvodePeriod(double eps) {
-  const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", eps}});
-  integrators::OdeSystem ode{2, e.original.rhs};
-  integrators::IntegratorOptions io;
-  io.method = integrators::IntegratorOptions::Method::kBdf;
-  io.relative_tolerance = integrators::kTightestRelativeTolerance;
-  io.absolute_tolerance = 1e-17;
-  // x' crosses zero downwards only at the maxima of x: one per period.
-  return integrators::LimitCyclePeriod(ode, Eigen::Vector2d(2.0, 0.0),
-                                       12 * 2 * M_PI / e.guess.frequencies()[0],
-                                       [](double, const double* y) { return y[1]; }, -1, 2, io);
-}
-
 TEST(VanDerPolRelaxation, CvodeReferenceMatchesThePublishedPeriod) {
   // ../shared/ref/periodic.json (arbitrary-precision Taylor integration).
-  EXPECT_NEAR(CvodePeriod(10.0), 19.07836956693901407, 2e-11);
+  EXPECT_NEAR(examples::VanDerPolPeriodByCvode(10.0), 19.07836956693901407, 2e-11);
 }
 
 // The simulated starting guess survives the stiffness of eps = 50 (its RK4
@@ -98,7 +81,7 @@ TEST(VanDerPolRelaxation, CvodeReferenceMatchesThePublishedPeriod) {
 TEST(VanDerPolRelaxation, StiffGuessFindsThePeriod) {
   const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", 50.0}});
   const double guess_period = 2 * M_PI / e.guess.frequencies()[0];
-  EXPECT_NEAR(guess_period, CvodePeriod(50.0), 1e-3 * guess_period);
+  EXPECT_NEAR(guess_period, examples::VanDerPolPeriodByCvode(50.0), 1e-3 * guess_period);
   EXPECT_NEAR(e.guess.Value(0, 0.0), 2.0, 0.05);  // the guess starts at a maximum of x
 }
 
@@ -109,7 +92,7 @@ TEST(VanDerPolRelaxation, PeriodMatchesTightCvodeReference) {
     int order;
   };
   for (const Case& c : {Case{5.0, 100}, Case{10.0, 300}}) {
-    const double reference = CvodePeriod(c.eps);
+    const double reference = examples::VanDerPolPeriodByCvode(c.eps);
     const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", c.eps}});
     HarmonicBalanceOptions o;
     o.order = c.order;
@@ -127,7 +110,7 @@ TEST(VanDerPolRelaxation, PeriodMatchesTightCvodeReference) {
 // --tol on a relaxation oscillation: the chosen order's period is within the
 // tolerance (relative) of CVODE's, and the estimate is not below the error.
 TEST(VanDerPolRelaxation, OrderSelectionMeetsTheToleranceAgainstCvode) {
-  const double reference = CvodePeriod(5.0);
+  const double reference = examples::VanDerPolPeriodByCvode(5.0);
   const examples::ExampleSetup e = examples::BuildExample("vanderpol", {{"eps", 5.0}});
   HarmonicBalanceOptions o;
   o.order = 20;
