@@ -13,10 +13,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <random>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -147,15 +147,26 @@ std::string Show(const std::vector<std::string>& args) {
 
 class CliFuzz : public ::testing::TestWithParam<int> {};
 
+// A printed number that is not finite, as C's printf and nlohmann::json
+// would spell it: "nan" or "inf" in any case, not inside a word ("infinite").
+// (Not std::regex: GCC 12 warns inside it under the sanitizers.)
+bool MentionsNonFinite(const std::string& text) {
+  auto letter = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; };
+  std::string lower(text.size(), ' ');
+  std::transform(text.begin(), text.end(), lower.begin(),
+                 [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); });
+  for (const char* word : {"nan", "inf"})
+    for (size_t p = lower.find(word); p != std::string::npos; p = lower.find(word, p + 1))
+      if ((p == 0 || !letter(lower[p - 1])) && (p + 3 == lower.size() || !letter(lower[p + 3]))) return true;
+  return false;
+}
+
 TEST_P(CliFuzz, MangledArgumentsEndInADocumentedExitCode) {
   const char* count_env = std::getenv("RMHB_CLI_FUZZ_PER_SHARD");
   const int runs = count_env ? std::atoi(count_env) : 25;
   std::mt19937 rng(1000u + static_cast<unsigned>(GetParam()));
   const std::string scratch = ::testing::TempDir();
   const auto templates = Templates(scratch);
-  // A printed number that is not finite, as C's printf and nlohmann::json
-  // would spell it.
-  const std::regex non_finite(R"((^|[^A-Za-z_])-?(nan|inf)([^A-Za-z_]|$))", std::regex::icase);
   int codes[5] = {0, 0, 0, 0, 0};
   double slowest = 0;
   std::string slowest_args;
@@ -177,9 +188,9 @@ TEST_P(CliFuzz, MangledArgumentsEndInADocumentedExitCode) {
       EXPECT_FALSE(r.err.empty() && r.out.empty()) << "no message";
     }
     bool mentions_non_finite = false;
-    for (const std::string& a : args) mentions_non_finite |= std::regex_search(a, non_finite);
+    for (const std::string& a : args) mentions_non_finite |= MentionsNonFinite(a);
     if (r.code == 0 && !mentions_non_finite) {
-      EXPECT_FALSE(std::regex_search(r.out, non_finite)) << r.out;
+      EXPECT_FALSE(MentionsNonFinite(r.out)) << r.out;
     }
     const bool json = std::find(args.begin(), args.end(), "--json") != args.end();
     if (json && (r.code == 0 || r.code == 3) && !r.out.empty() && r.out[0] == '{') {
