@@ -52,8 +52,8 @@ void AddSimulateOptions(CLI::App* app, SimulateArgs* a) {
   app->add_option("--plot", a->plot, "Draw the time response into FILE.png or FILE.svg (gnuplot)");
   app->add_flag("--json", a->json, "Machine-readable summary (needs --csv for the data)");
   app->footer(
-      "Starts from the model's initial_state (examples: their starting guess at t = 0, which\n"
-      "meets their conditions to round-off).\n"
+      "Starts from the model's initial state (for a model without one: its starting guess at\n"
+      "t = 0, which meets its conditions to round-off).\n"
       "Exit codes: 0 ok, 1 usage, 2 bad input (unknown model/parameter, bad value, model\n"
       "that is not an explicit ODE, gnuplot missing for --plot), 3 the integration stopped\n"
       "before --t-end (SUNDIALS' message; the rows reached are written), 4 internal.");
