@@ -63,7 +63,8 @@ int RunAnalyze(const AnalyzeArgs& a) {
   const HarmonicBalanceOptions& options = prepared.options;
   const int bases = static_cast<int>(problem.frequencies.size());
   const bool identify = a.settings.frequencies.empty();
-  if (!source.original) throw std::invalid_argument("cannot integrate the model: " + source.original_error);
+  if (!source.original && !source.original_dae)
+    throw std::invalid_argument("cannot integrate the model: " + source.original_error);
   if (!std::isfinite(a.t_end) || !std::isfinite(a.transient))
     throw std::invalid_argument("--t-end and --transient must be finite numbers");
   if (!a.plot.empty()) CheckPlotRequest(a.plot);
@@ -101,12 +102,17 @@ int RunAnalyze(const AnalyzeArgs& a) {
     record.integrator.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf
                                             : integrators::IntegratorOptions::Method::kAdams;
     auto t0 = Clock::now();
-    const frequency_id::Signal signal = examples::RecordTrajectory(
-        source.original(problem.frequencies), source.initial_state, record, source.state_names);
+    const frequency_id::Signal signal =
+        source.original_dae
+            ? examples::RecordTrajectory(source.original_dae(problem.frequencies), source.initial_state, record,
+                                         source.state_names)
+            : examples::RecordTrajectory(source.original(problem.frequencies), source.initial_state, record,
+                                         source.state_names);
     const double record_seconds = Since(t0);
     char text[512];
-    std::snprintf(text, sizeof text, "%-10s %9.1f ms  CVODE %s rtol %.0e: %d samples, t in [%g, %g], dt %.4g",
-                  "trajectory", record_seconds * 1e3, source.stiff ? "BDF" : "Adams",
+    std::snprintf(text, sizeof text, "%-10s %9.1f ms  %s rtol %.0e: %d samples, t in [%g, %g], dt %.4g",
+                  "trajectory", record_seconds * 1e3,
+                  source.original_dae ? "IDA BDF" : source.stiff ? "CVODE BDF" : "CVODE Adams",
                   record.integrator.relative_tolerance, signal.num_samples(), record.transient,
                   record.t_end, record.dt);
     lines.push_back(text);
@@ -226,8 +232,11 @@ int RunAnalyze(const AnalyzeArgs& a) {
     const HarmonicSolution& sol = *summary->solution;
     const double slowest = *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
     const double t_end = a.validate_periods * 2 * M_PI / slowest;
-    const integrators::ValidationReport v = integrators::ValidateTrajectory(
-        source.original(sol.frequencies()), [&](double t) { return source.state(sol, t); }, t_end, source.stiff);
+    auto claimed = [&](double t) { return source.state(sol, t); };
+    const integrators::ValidationReport v =
+        source.original_dae
+            ? integrators::ValidateDaeTrajectory(source.original_dae(sol.frequencies()), claimed, t_end)
+            : integrators::ValidateTrajectory(source.original(sol.frequencies()), claimed, t_end, source.stiff);
     stages["validate"] = {{"seconds", v.seconds}, {"status", v.ok ? "ok" : "failed"},
                           {"max_error", Number(v.max_error)}, {"t_end", t_end},
                           {"periods", a.validate_periods}, {"integrator", v.integrator}, {"message", v.message}};

@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "integrators/cvode_integrator.h"
+#include "integrators/ida_integrator.h"
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/plot.h"
@@ -45,7 +46,8 @@ void AddSimulateOptions(CLI::App* app, SimulateArgs* a) {
   app->add_option("--rtol", a->rtol, "Relative tolerance of CVODE (default 1e-12)");
   app->add_option("--atol", a->atol, "Absolute tolerance of CVODE (default 1e-14)");
   app->add_option("--integrator", a->integrator,
-                  "adams (non-stiff), bdf (stiff) or auto (the model's own choice, default)")
+                  "adams (non-stiff), bdf (stiff) or auto (the model's own choice, default); a DAE\n"
+                  "model (algebraic equations) is always integrated by IDA's BDF")
       ->check(CLI::IsMember({"auto", "adams", "bdf"}));
   app->add_option("--csv", a->csv,
                   "Write t and every state to this CSV file (default: CSV on standard output)");
@@ -54,14 +56,17 @@ void AddSimulateOptions(CLI::App* app, SimulateArgs* a) {
   app->footer(
       "Starts from the model's initial state (for a model without one: its starting guess at\n"
       "t = 0, which meets its conditions to round-off).\n"
+      "A model with algebraic equations (a DAE) is integrated by SUNDIALS IDA, which first\n"
+      "makes the algebraic states consistent with the initial state (IDACalcIC).\n"
       "Exit codes: 0 ok, 1 usage, 2 bad input (unknown model/parameter, bad value, model\n"
-      "that is not an explicit ODE, gnuplot missing for --plot), 3 the integration stopped\n"
+      "that cannot be integrated, gnuplot missing for --plot), 3 the integration stopped\n"
       "before --t-end (SUNDIALS' message; the rows reached are written), 4 internal.");
 }
 
 int RunSimulate(const SimulateArgs& a) {
   const ProblemSource source = LoadProblem(a.model, ParseOverrides(a.set));
-  if (!source.original) throw std::invalid_argument("cannot integrate the model: " + source.original_error);
+  if (!source.original && !source.original_dae)
+    throw std::invalid_argument("cannot integrate the model: " + source.original_error);
   if (!a.plot.empty()) CheckPlotRequest(a.plot);
   if (a.json && a.csv.empty()) throw std::invalid_argument("--json needs --csv FILE for the trajectory");
   const std::vector<double>& w = source.problem.frequencies;
@@ -83,8 +88,13 @@ int RunSimulate(const SimulateArgs& a) {
   io.method = bdf ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
   io.relative_tolerance = a.rtol;
   io.absolute_tolerance = a.atol;
+  // A model with algebraic equations goes to IDA, which makes y'(0) and the
+  // algebraic part of the initial state consistent (IDACalcIC) first.
   const integrators::IntegrationResult r =
-      integrators::IntegrateOde(source.original(w), source.initial_state, 0.0, times, io);
+      source.original_dae
+          ? integrators::IntegrateDae(source.original_dae(w), source.initial_state,
+                                      Eigen::VectorXd::Zero(source.initial_state.size()), 0.0, times, io)
+          : integrators::IntegrateOde(source.original(w), source.initial_state, 0.0, times, io);
 
   if (!a.csv.empty()) {
     std::ofstream out(a.csv);

@@ -79,6 +79,27 @@ TEST(Simulate, ModelFileResultsRepeatBitForBit) {
   for (int run = 0; run < 4; ++run) EXPECT_EQ(Cli(args).out, first) << "run " << run;
 }
 
+TEST(Simulate, DaeModelGoesToIdaAndConservesTheEnergy) {
+  // x'' + x z = 0 with z (1 + x^2) = 1 (algebraic): IDA. Along the rows the
+  // energy x'^2/2 + log(1 + x^2)/2 stays log(1 + A^2)/2, and z meets its
+  // constraint, both to IDA's accuracy (its Newton stops near 1e-10).
+  const std::string csv = ::testing::TempDir() + "simulate_dae.csv";
+  const auto j = Json("simulate examples/models/softening-dae.yaml --t-end 10 --dt 0.5 --csv " + csv + " --json");
+  EXPECT_EQ(j["status"], "ok");
+  EXPECT_NE(j["integrator"].get<std::string>().find("IDA"), std::string::npos) << j.dump();
+  std::string header;
+  const auto rows = ReadCsv(csv, &header);
+  EXPECT_EQ(header, "t,x,x',z");
+  ASSERT_EQ(rows.size(), 21u);
+  const double A = 1.5;
+  for (const auto& row : rows) {
+    const double x = row[1], v = row[2], z = row[3];
+    EXPECT_NEAR(v * v / 2 + std::log(1 + x * x) / 2, std::log(1 + A * A) / 2, 1e-8) << "t = " << row[0];
+    EXPECT_NEAR(z * (1 + x * x), 1, 1e-8) << "t = " << row[0];
+  }
+  EXPECT_DOUBLE_EQ(rows[0][1], A);
+}
+
 TEST(Simulate, BlowUpStopsWithExitCode3AndTheRowsReached) {
   // x' = x^2, x(0) = 1: x = 1/(1 - t) blows up at t = 1.
   const std::string model = ::testing::TempDir() + "simulate_blowup.yaml";
