@@ -7,7 +7,8 @@
 // eps = 50 needs N = 6000, a 12002 x 12002 Jacobian. Measured on this
 // project's 2-core machine (tests/benchmarks/dense_factorization_benchmark),
 // OpenBLAS's dgetrf is about 1.4x faster than Eigen's PartialPivLU on one
-// thread and 2.4x on two (n = 4000 .. 12000).
+// thread (n = 2000 .. 12000) and 2.2-2.4x on two when the second core is free
+// (n = 4000, 8000); on a loaded machine the second thread gains nothing.
 //
 // The classes keep the calls of Eigen::PartialPivLU and
 // Eigen::HouseholderQR that the solver uses (compute, solve, rcond,
