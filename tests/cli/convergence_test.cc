@@ -68,13 +68,24 @@ TEST(Convergence, SolversAndConditionSchemesAddColumns) {
   const auto table = Json("convergence pendulum --orders 10 --methods rhb --solver newton,lm "
                           "--conditions model,scheme2 --json");
   ASSERT_EQ(table["columns"].size(), 4u);
-  for (const char* name : {"rhb/newton/model", "rhb/lm/model", "rhb/newton/scheme2", "rhb/lm/scheme2"}) {
+  for (const char* name : {"rhb/newton/model", "rhb/lm/model", "rhb/lm/scheme2"}) {
     const auto& c = Column(table, name);
     ASSERT_EQ(c["rows"].size(), 1u);
     EXPECT_EQ(c["rows"][0]["status"], "converged") << name;
     // Scheme 2 (amplitude + pinned auxiliaries) is the same solution as the model's own.
     EXPECT_LT(c["rows"][0]["max_error"].get<double>(), 1e-5) << name;
   }
+  // Newton on scheme 2 factorises a Jacobian singular to round-off (1/cond ~1e-16):
+  // whether it stalls (the paper's finding) or lands near the solution depends on
+  // the LU's last bits (Eigen's converged here, LAPACK's stalls at |F| ~6e-13).
+  // Either way the cell is there and says which, with the residual reached.
+  const auto& newton = Column(table, "rhb/newton/scheme2")["rows"];
+  ASSERT_EQ(newton.size(), 1u);
+  EXPECT_LT(newton[0]["residual"].get<double>(), 1e-6);
+  if (newton[0]["status"] == "converged")
+    EXPECT_LT(newton[0]["max_error"].get<double>(), 1e-5);
+  else
+    EXPECT_EQ(newton[0]["status"], "not_converged");
   EXPECT_EQ(Column(table, "rhb/lm/model")["solver"], "lm");
 }
 

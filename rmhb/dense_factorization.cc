@@ -1,0 +1,162 @@
+#include "rmhb/dense_factorization.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+// LAPACK's Fortran interface as OpenBLAS exports it (32-bit integers on
+// Debian). The trailing size_t arguments are gfortran's hidden lengths of the
+// character arguments.
+extern "C" {
+void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
+void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda,
+             const int* ipiv, double* b, const int* ldb, int* info, std::size_t trans_len);
+void dgecon_(const char* norm, const int* n, const double* a, const int* lda, const double* anorm,
+             double* rcond, double* work, int* iwork, int* info, std::size_t norm_len);
+void dgeqrf_(const int* m, const int* n, double* a, const int* lda, double* tau, double* work,
+             const int* lwork, int* info);
+void dormqr_(const char* side, const char* trans, const int* m, const int* n, const int* k,
+             const double* a, const int* lda, const double* tau, double* c, const int* ldc,
+             double* work, const int* lwork, int* info, std::size_t side_len,
+             std::size_t trans_len);
+void dtrtrs_(const char* uplo, const char* trans, const char* diag, const int* n, const int* nrhs,
+             const double* a, const int* lda, double* b, const int* ldb, int* info,
+             std::size_t uplo_len, std::size_t trans_len, std::size_t diag_len);
+int openblas_get_num_threads(void);
+void openblas_set_num_threads(int threads);
+}
+
+namespace rmhb {
+namespace {
+
+std::atomic<int> requested_threads{0};
+
+// OpenBLAS's own count, read before this file ever changes it.
+int DefaultThreads() {
+  static const int threads = openblas_get_num_threads();
+  return threads;
+}
+
+// Pins OpenBLAS's thread count for a factorisation with `columns` columns
+// (see the header: the count decides the last bits).
+void PinThreads(long columns) {
+  DefaultThreads();
+  openblas_set_num_threads(columns < kMinThreadedDimension ? 1 : DenseFactorizationThreads());
+}
+
+int Dimension(long n, const char* what) {
+  if (n > std::numeric_limits<int>::max())
+    throw std::invalid_argument(std::string(what) + ": dimension " + std::to_string(n) +
+                                " exceeds LAPACK's 32-bit integers");
+  return static_cast<int>(n);
+}
+
+Eigen::VectorXd NotANumber(long n) {
+  return Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+}
+
+}  // namespace
+
+void SetDenseFactorizationThreads(int threads) {
+  if (threads < 0)
+    throw std::invalid_argument("SetDenseFactorizationThreads: threads must be >= 0 (0: OpenBLAS's "
+                                "default), got " + std::to_string(threads));
+  requested_threads = threads;
+}
+
+int DenseFactorizationThreads() {
+  const int threads = requested_threads;
+  return threads > 0 ? threads : DefaultThreads();
+}
+
+DenseLu& DenseLu::compute(const Eigen::MatrixXd& A) {
+  if (A.rows() != A.cols())
+    throw std::invalid_argument("DenseLu: the matrix is " + std::to_string(A.rows()) + " x " +
+                                std::to_string(A.cols()) + ", not square");
+  const int n = Dimension(A.rows(), "DenseLu");
+  lu_ = A;
+  pivots_.assign(n, 0);
+  rcond_ = 0;
+  singular_ = false;
+  if (n == 0) return *this;
+  // dgecon needs the 1-norm of A itself, before it is overwritten.
+  const double norm = A.cwiseAbs().colwise().sum().maxCoeff();
+  PinThreads(n);
+  int info = 0;
+  dgetrf_(&n, &n, lu_.data(), &n, pivots_.data(), &info);
+  if (info < 0) throw std::logic_error("dgetrf: argument " + std::to_string(-info) + " invalid");
+  singular_ = info > 0;
+  if (singular_ || !std::isfinite(norm)) return *this;
+  std::vector<double> work(4 * static_cast<std::size_t>(n));
+  std::vector<int> iwork(n);
+  dgecon_("1", &n, lu_.data(), &n, &norm, &rcond_, work.data(), iwork.data(), &info, 1);
+  if (info != 0) rcond_ = 0;
+  return *this;
+}
+
+Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const {
+  const int n = static_cast<int>(lu_.rows());
+  if (b.size() != n)
+    throw std::invalid_argument("DenseLu::solve: right-hand side of size " +
+                                std::to_string(b.size()) + " for a matrix of " + std::to_string(n));
+  if (singular_) return NotANumber(n);
+  Eigen::VectorXd x = b;
+  if (n == 0) return x;
+  PinThreads(n);
+  const int one = 1;
+  int info = 0;
+  dgetrs_("N", &n, &one, lu_.data(), &n, pivots_.data(), x.data(), &n, &info, 1);
+  if (info != 0) throw std::logic_error("dgetrs: argument " + std::to_string(-info) + " invalid");
+  return x;
+}
+
+DenseQr& DenseQr::compute(const Eigen::MatrixXd& A) {
+  if (A.rows() < A.cols())
+    throw std::invalid_argument("DenseQr: the matrix is " + std::to_string(A.rows()) + " x " +
+                                std::to_string(A.cols()) + ", fewer rows than columns");
+  const int m = Dimension(A.rows(), "DenseQr"), n = Dimension(A.cols(), "DenseQr");
+  qr_ = A;
+  tau_.assign(n, 0.0);
+  if (n == 0) return *this;
+  PinThreads(n);
+  int info = 0, query = -1;
+  double size = 0;
+  dgeqrf_(&m, &n, qr_.data(), &m, tau_.data(), &size, &query, &info);
+  const int lwork = std::max(n, static_cast<int>(size));
+  std::vector<double> work(lwork);
+  dgeqrf_(&m, &n, qr_.data(), &m, tau_.data(), work.data(), &lwork, &info);
+  if (info != 0) throw std::logic_error("dgeqrf: argument " + std::to_string(-info) + " invalid");
+  return *this;
+}
+
+Eigen::VectorXd DenseQr::solve(const Eigen::VectorXd& b) const {
+  const int m = static_cast<int>(qr_.rows()), n = static_cast<int>(qr_.cols());
+  if (b.size() != m)
+    throw std::invalid_argument("DenseQr::solve: right-hand side of size " +
+                                std::to_string(b.size()) + " for a matrix of " + std::to_string(m) +
+                                " rows");
+  Eigen::VectorXd c = b;
+  if (n == 0) return Eigen::VectorXd(0);
+  PinThreads(n);
+  // Q' b, then R x = (Q' b)(0:n).
+  const int one = 1;
+  int info = 0, query = -1;
+  double size = 0;
+  dormqr_("L", "T", &m, &one, &n, qr_.data(), &m, tau_.data(), c.data(), &m, &size, &query, &info,
+          1, 1);
+  const int lwork = std::max(1, static_cast<int>(size));
+  std::vector<double> work(lwork);
+  dormqr_("L", "T", &m, &one, &n, qr_.data(), &m, tau_.data(), c.data(), &m, work.data(), &lwork,
+          &info, 1, 1);
+  if (info != 0) throw std::logic_error("dormqr: argument " + std::to_string(-info) + " invalid");
+  dtrtrs_("U", "N", "N", &n, &one, qr_.data(), &m, c.data(), &m, &info, 1, 1, 1);
+  if (info < 0) throw std::logic_error("dtrtrs: argument " + std::to_string(-info) + " invalid");
+  if (info > 0) return NotANumber(n);
+  return c.head(n);
+}
+
+}  // namespace rmhb

@@ -1,0 +1,81 @@
+#ifndef RMHB_DENSE_FACTORIZATION_H_
+#define RMHB_DENSE_FACTORIZATION_H_
+
+// Dense LU (partial pivoting) and Householder QR of the Newton Jacobian
+// through LAPACK (dgetrf/dgetrs/dgecon, dgeqrf/dormqr/dtrtrs) from OpenBLAS.
+// The factorisation is O(n^3) and dominates every large solve: Van der Pol at
+// eps = 50 needs N = 6000, a 12002 x 12002 Jacobian. Measured on this
+// project's 2-core machine (tests/benchmarks/dense_factorization_benchmark),
+// OpenBLAS's dgetrf is about 1.4x faster than Eigen's PartialPivLU on one
+// thread (n = 2000 .. 12000) and 2.2-2.4x on two when the second core is free
+// (n = 4000, 8000); on a loaded machine the second thread gains nothing.
+//
+// The classes keep the calls of Eigen::PartialPivLU and
+// Eigen::HouseholderQR that the solver uses (compute, solve, rcond,
+// matrixQR), so they replace them one for one; the factors agree with
+// Eigen's to round-off, not bit for bit.
+//
+// Threads and reproducibility: OpenBLAS's factorisations are bit-for-bit
+// deterministic for a given thread count, but the last bits change with the
+// count. Matrices below kMinThreadedDimension are always factorised on one
+// thread (threads cost more than they save there, and small problems give the
+// same bits whatever the machine); larger ones use the count set by
+// SetDenseFactorizationThreads, by default OpenBLAS's own (the
+// OPENBLAS_NUM_THREADS environment variable, else every core). Two runs with
+// the same setting on the same machine give identical results.
+
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace rmhb {
+
+// Square or tall matrices of fewer columns than this are factorised on one
+// thread: at 500 a factorisation takes ~5 ms, where waking threads on a
+// loaded machine costs as much as it saves.
+constexpr int kMinThreadedDimension = 500;
+
+// Threads for factorisations of kMinThreadedDimension columns and more;
+// 0 (the default) leaves OpenBLAS's own choice. Process-wide, like
+// OpenBLAS's setting; throws std::invalid_argument when negative.
+void SetDenseFactorizationThreads(int threads);
+int DenseFactorizationThreads();  // the count in effect for large matrices
+
+// P A = L U of a square matrix.
+class DenseLu {
+ public:
+  DenseLu& compute(const Eigen::MatrixXd& A);
+  // x with A x = b; every entry NaN when A is exactly singular (a zero pivot),
+  // which the caller sees as a non-finite step.
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  // Reciprocal 1-norm condition estimate (Hager/Higham, dgecon); 0 when
+  // singular.
+  double rcond() const { return rcond_; }
+  bool singular() const { return singular_; }
+
+ private:
+  Eigen::MatrixXd lu_;
+  std::vector<int> pivots_;
+  double rcond_ = 0;
+  bool singular_ = true;
+};
+
+// A = Q R of a matrix with at least as many rows as columns.
+class DenseQr {
+ public:
+  DenseQr& compute(const Eigen::MatrixXd& A);
+  // The least-squares solution of min |A x - b|; every entry NaN when R has
+  // a zero diagonal entry (rank deficient to the last bit).
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  // R in the upper triangle (the Householder vectors below it), as LAPACK
+  // and Eigen::HouseholderQR store it.
+  const Eigen::MatrixXd& matrixQR() const { return qr_; }
+
+ private:
+  Eigen::MatrixXd qr_;
+  std::vector<double> tau_;
+};
+
+}  // namespace rmhb
+
+#endif  // RMHB_DENSE_FACTORIZATION_H_

@@ -1,0 +1,122 @@
+#include "rmhb/dense_factorization.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+namespace rmhb {
+namespace {
+
+// A random matrix with a dominant diagonal: well conditioned, so the exact
+// solution it was built from is the reference to ~1e-13.
+Eigen::MatrixXd WellConditioned(int rows, int cols, unsigned seed) {
+  std::srand(seed);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Random(rows, cols);
+  for (int i = 0; i < std::min(rows, cols); ++i) A(i, i) += 2.0 * std::sqrt(double(cols));
+  return A;
+}
+
+TEST(DenseLu, SolvesToTheExactSolution) {
+  for (int n : {1, 7, 64, 300}) {
+    const Eigen::MatrixXd A = WellConditioned(n, n, 3 + n);
+    const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+    DenseLu lu;
+    lu.compute(A);
+    ASSERT_FALSE(lu.singular());
+    const Eigen::VectorXd x = lu.solve(A * exact);
+    EXPECT_LT((x - exact).cwiseAbs().maxCoeff(), 1e-13) << "n = " << n;
+  }
+}
+
+// dgecon estimates 1/(|A|_1 |A^-1|_1); Hager's estimator is exact or close
+// on such matrices, never above the truth.
+TEST(DenseLu, ConditionEstimateMatchesTheExplicitInverse) {
+  for (double scale : {1.0, 1e-6}) {
+    Eigen::MatrixXd A = WellConditioned(80, 80, 11);
+    A.col(5) *= scale;  // ill-conditioned by a factor ~1/scale
+    const double exact = 1 / (A.cwiseAbs().colwise().sum().maxCoeff() *
+                              A.inverse().cwiseAbs().colwise().sum().maxCoeff());
+    DenseLu lu;
+    lu.compute(A);
+    EXPECT_GE(lu.rcond(), 0.999 * exact) << scale;
+    EXPECT_LE(lu.rcond(), 3 * exact) << scale;
+  }
+}
+
+TEST(DenseLu, ExactlySingularGivesNaNAndZeroCondition) {
+  Eigen::MatrixXd A = WellConditioned(20, 20, 5);
+  A.col(7).setZero();
+  DenseLu lu;
+  lu.compute(A);
+  EXPECT_TRUE(lu.singular());
+  EXPECT_EQ(lu.rcond(), 0);
+  EXPECT_FALSE(lu.solve(Eigen::VectorXd::Ones(20)).allFinite());
+}
+
+TEST(DenseLu, RefusesMisuse) {
+  DenseLu lu;
+  EXPECT_THROW(lu.compute(Eigen::MatrixXd::Identity(3, 4)), std::invalid_argument);
+  lu.compute(Eigen::MatrixXd::Identity(3, 3));
+  EXPECT_THROW(lu.solve(Eigen::VectorXd::Ones(4)), std::invalid_argument);
+  EXPECT_THROW(SetDenseFactorizationThreads(-1), std::invalid_argument);
+}
+
+// Above kMinThreadedDimension OpenBLAS threads the factorisation: the same
+// count gives the same bits (the CLI's results are reproducible), another
+// count the same solution to round-off.
+TEST(DenseLu, ThreadedFactorisationIsReproducible) {
+  const int n = kMinThreadedDimension + 100;
+  const Eigen::MatrixXd A = WellConditioned(n, n, 17);
+  const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, 1.0, -1.0), b = A * exact;
+  const int before = DenseFactorizationThreads();
+  DenseLu lu;
+  SetDenseFactorizationThreads(2);
+  const Eigen::VectorXd x1 = lu.compute(A).solve(b), x2 = lu.compute(A).solve(b);
+  SetDenseFactorizationThreads(1);
+  const Eigen::VectorXd single = lu.compute(A).solve(b);
+  SetDenseFactorizationThreads(before);
+  EXPECT_EQ(x1, x2);
+  EXPECT_LT((x1 - exact).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((single - x1).cwiseAbs().maxCoeff(), 1e-13);
+}
+
+TEST(DenseQr, ConsistentOverdeterminedSystemGivesTheExactSolution) {
+  const Eigen::MatrixXd A = WellConditioned(41, 40, 23);
+  const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(40, 0.5, -3.0);
+  DenseQr qr;
+  qr.compute(A);
+  EXPECT_LT((qr.solve(A * exact) - exact).cwiseAbs().maxCoeff(), 1e-13);
+}
+
+// An inconsistent right-hand side: the least-squares solution satisfies the
+// normal equations A'(A x - b) = 0; |R_ii| are the same as any QR's.
+TEST(DenseQr, LeastSquaresMatchesTheNormalEquations) {
+  const Eigen::MatrixXd A = WellConditioned(60, 25, 29);
+  std::srand(31);
+  const Eigen::VectorXd b = Eigen::VectorXd::Random(60);
+  DenseQr qr;
+  qr.compute(A);
+  const Eigen::VectorXd x = qr.solve(b);
+  const Eigen::VectorXd normal = (A.transpose() * A).ldlt().solve(A.transpose() * b);
+  EXPECT_LT((x - normal).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((A.transpose() * (A * x - b)).cwiseAbs().maxCoeff(), 1e-12);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> eigen(A);
+  EXPECT_LT((qr.matrixQR().diagonal().cwiseAbs() - eigen.matrixQR().diagonal().cwiseAbs())
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-12);
+}
+
+TEST(DenseQr, RankDeficientGivesNaNAndMisuseThrows) {
+  Eigen::MatrixXd A = WellConditioned(12, 10, 37);
+  A.col(3).setZero();
+  DenseQr qr;
+  qr.compute(A);
+  EXPECT_FALSE(qr.solve(Eigen::VectorXd::Ones(12)).allFinite());
+  EXPECT_THROW(qr.compute(Eigen::MatrixXd::Ones(3, 4)), std::invalid_argument);
+  EXPECT_THROW(qr.solve(Eigen::VectorXd::Ones(3)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rmhb
