@@ -25,7 +25,7 @@ std::string DefinitionCheckOptions::IsValid() const {
 std::string DefinitionCheck::Report() const {
   std::ostringstream out;
   out.precision(3);
-  out << (physical ? "physical" : "NON-PHYSICAL") << ": max |solved - definition| " << error;
+  out << "max |solved - definition| " << error;
   if (!worst_variable.empty()) {
     out << " (relative) in " << worst_variable << " at ";
     if (std::isfinite(worst_time)) {
@@ -37,9 +37,6 @@ std::string DefinitionCheck::Report() const {
   }
   out << (physical ? " <= " : " > ") << "tolerance " << tolerance << " on " << points
       << " points between the samples";
-  if (!physical)
-    out << ": the solved auxiliaries do not equal their definitions (a wrong root of the "
-           "recast, or aliasing)";
   return out.str();
 }
 

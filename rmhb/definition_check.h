@@ -72,7 +72,9 @@ struct DefinitionCheck {
   // Non-finite definitions (a solved value outside a definition's domain,
   // e.g. |v| > 1 under sqrt(1 - v^2)) count as an infinite error there.
   double seconds = 0;
-  std::string Report() const;  // one line
+  // One line: "max |solved - definition| 3.3e-01 (relative) in u at t = 15.3
+  // > tolerance 0.1 on 1296 points between the samples".
+  std::string Report() const;
 };
 
 // `collocation_samples`: the samples per base the solve used (the summary's

@@ -98,9 +98,16 @@ void CheckPhysical(const HarmonicBalanceProblem& problem, const HarmonicBalanceO
   if (!problem.definitions) return;
   summary->definition_check =
       CheckDefinitions(*summary->solution, problem.definitions, summary->samples, options.definition_check);
-  if (!summary->definition_check->physical) {
+  if (const DefinitionCheck& c = *summary->definition_check; !c.physical) {
+    std::ostringstream why;
+    why.precision(3);
+    why << "auxiliary " << c.worst_variable << " is " << c.error
+        << " (relative) off its definition";
+    if (std::isfinite(c.worst_time)) why << " at t = " << c.worst_time;
+    why << " (tolerance " << c.tolerance << ", " << c.points
+        << " points between the samples): a wrong root of the recast or aliasing";
     summary->physical = false;
-    summary->non_physical = summary->definition_check->Report();
+    summary->non_physical = why.str();
   }
 }
 
