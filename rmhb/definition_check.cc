@@ -94,21 +94,16 @@ DefinitionCheck CheckDefinitions(const HarmonicSolution& solution,
   // Blocks of points: the synthesis E (points x coefficients) times the
   // coefficients is one matrix product per block, with E kept small.
   const long block = 256;
-  Eigen::MatrixXd E(block, 2 * K - 1);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> E(block, 2 * K - 1);
   std::vector<std::vector<double>> angles(block, std::vector<double>(d));
   std::vector<Eigen::VectorXd> z(coefficients.size());
   std::vector<Eigen::MatrixXd> values(coefficients.size());
-  // exp(i m theta) per base for every grid angle and 0 <= m <= reach: the
-  // synthesis then needs products, not a sin and cos per harmonic and point.
-  std::vector<std::vector<std::complex<double>>> phase(d);
-  std::vector<int> reach(d);
-  for (int b = 0; b < d; ++b) reach[b] = basis.Reach(b);
-  for (int b = 0; b < d; ++b) {
-    phase[b].resize(static_cast<size_t>(grid[b]) * (reach[b] + 1));
-    for (int g = 0; g < grid[b]; ++g)
-      for (int m = 0; m <= reach[b]; ++m)
-        phase[b][g * (reach[b] + 1) + m] = std::polar(1.0, 2.0 * M_PI * m * (g + 0.5) / grid[b]);
-  }
+  // theta_g = pi (2g + 1) / G, so exp(i m theta_g) is the (m (2g + 1) mod 2G)-th
+  // of the 2G roots of unity: one table of 2G per base, exact, and no sin or
+  // cos per harmonic and point.
+  std::vector<std::vector<std::complex<double>>> roots(d);
+  for (int b = 0; b < d; ++b)
+    for (int j = 0; j < 2 * grid[b]; ++j) roots[b].push_back(std::polar(1.0, M_PI * j / grid[b]));
   std::vector<int> index(d);
   for (long first = 0; first < total; first += block) {
     const long count = std::min(block, total - first);
@@ -123,9 +118,9 @@ DefinitionCheck CheckDefinitions(const HarmonicSolution& solution,
       for (int k = 1; k < K; ++k) {
         std::complex<double> e = 1;
         for (int b = 0; b < d; ++b) {
-          const int m = basis.harmonic(k)[b];
-          const std::complex<double> p = phase[b][index[b] * (reach[b] + 1) + std::abs(m)];
-          e *= m >= 0 ? p : std::conj(p);
+          const long period = 2L * grid[b];
+          long j = (static_cast<long>(basis.harmonic(k)[b]) * (2L * index[b] + 1)) % period;
+          e *= roots[b][j < 0 ? j + period : j];
         }
         E(i, 2 * k - 1) = e.real();
         E(i, 2 * k) = e.imag();

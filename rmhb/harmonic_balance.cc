@@ -95,7 +95,12 @@ void CheckPhysical(const HarmonicBalanceProblem& problem, const HarmonicBalanceO
       return;
     }
   }
-  if (!problem.definitions) return;
+  // Without auxiliaries every variable is a state: nothing to compare.
+  const std::vector<Variable>& variables = problem.system.variables();
+  if (!problem.definitions ||
+      std::none_of(variables.begin(), variables.end(),
+                   [](const Variable& v) { return v.role == VariableRole::kAuxiliary; }))
+    return;
   summary->definition_check =
       CheckDefinitions(*summary->solution, problem.definitions, summary->samples, options.definition_check);
   if (const DefinitionCheck& c = *summary->definition_check; !c.physical) {

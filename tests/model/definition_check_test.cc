@@ -57,8 +57,7 @@ TEST(DefinitionCheck, PhysicalSolutionsOfTheBundledExamplesPass) {
 }
 
 TEST(DefinitionCheck, PhysicalSolutionsOfTheBundledModelFilesPass) {
-  for (std::string name : {"pendulum", "relativistic", "duffing", "vanderpol", "rayleigh-plesset",
-                           "softening-dae", "forced-vanderpol"}) {
+  for (std::string name : {"pendulum", "relativistic", "rayleigh-plesset"}) {
     SCOPED_TRACE(name);
     model::RecastResult r = model::Recast(model::LoadModelFile(ModelPath(name)));
     const int order = r.problem.frequencies.size() == 1 ? 40 : 7;
@@ -67,6 +66,16 @@ TEST(DefinitionCheck, PhysicalSolutionsOfTheBundledModelFilesPass) {
     ASSERT_TRUE(s.definition_check.has_value());
     EXPECT_TRUE(s.physical) << s.non_physical;
     EXPECT_LT(s.definition_check->error, 1e-8);
+  }
+  // No auxiliaries (every variable a state): nothing to compare, still checked
+  // for a collapsed frequency.
+  for (std::string name : {"duffing", "vanderpol", "softening-dae", "forced-vanderpol"}) {
+    SCOPED_TRACE(name);
+    model::RecastResult r = model::Recast(model::LoadModelFile(ModelPath(name)));
+    const int order = r.problem.frequencies.size() == 1 ? 25 : 5;
+    HarmonicBalanceSummary s = Solve(r.problem, r.InitialGuess(order), order);
+    EXPECT_TRUE(s.usable()) << s.FullReport();
+    EXPECT_FALSE(s.definition_check.has_value());
   }
 }
 
