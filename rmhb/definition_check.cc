@@ -164,7 +164,7 @@ DefinitionCheck CheckDefinitions(const HarmonicSolution& solution,
   }
   check.tolerance = std::clamp(options.truncation_factor * check.tail, options.floor, options.ceiling);
   check.physical = check.error <= check.tolerance;
-  check.worst_time = d == 1 && solution.frequencies()[0] > 0
+  check.worst_time = d == 1 && !check.worst_angles.empty() && solution.frequencies()[0] > 0
                          ? check.worst_angles[0] / solution.frequencies()[0]
                          : std::numeric_limits<double>::quiet_NaN();
   check.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

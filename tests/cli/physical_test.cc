@@ -73,6 +73,21 @@ TEST(PhysicalCli, ConvergenceMarksTheScheme3Collapse) {
   EXPECT_TRUE(saw_collapse);
 }
 
+TEST(PhysicalCli, ContinuationAndAnalyzeReportTheCheck) {
+  const nlohmann::json branch = Json("solve relativistic --order 30 --natural --continue beta=0.5:0.7 --steps 4 --json");
+  ASSERT_FALSE(branch["branch"].empty());
+  for (const auto& point : branch["branch"]) {
+    EXPECT_EQ(point["physical"], true) << point.dump();
+    EXPECT_EQ(point["definition_worst"], "u");
+    EXPECT_LT(point["definition_error"].get<double>(), 1e-6);
+  }
+  const nlohmann::json analyzed = Json("analyze examples/models/pendulum.yaml --json");
+  EXPECT_EQ(analyzed["stages"]["solve"]["physical"], true) << analyzed.dump();
+  const std::string worst = analyzed["stages"]["solve"]["definition_worst"].get<std::string>();
+  EXPECT_TRUE(worst == "sin_theta" || worst == "cos_theta") << worst;  // both at round-off
+  EXPECT_LT(analyzed["stages"]["solve"]["definition_error"].get<double>(), 1e-10);
+}
+
 TEST(PhysicalCli, HelpDocumentsExitFive) {
   EXPECT_NE(Cli("--help").out.find("5 converged to a"), std::string::npos);
   EXPECT_NE(Cli("solve --help").out.find("5 converged to a NON-PHYSICAL"), std::string::npos);
