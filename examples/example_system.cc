@@ -552,7 +552,17 @@ ExampleSetup BuildExample(const std::string& name, const std::map<std::string, d
       throw std::invalid_argument("parameter '" + k + "' must be finite");
     values[k] = v;
   }
-  return example->build(values);
+  ExampleSetup e = example->build(values);
+  // The hand-written recasts keep the state in their first variables; the
+  // auxiliaries' definitions are original.variables on it.
+  if (e.original.variables && !e.problem.definitions) {
+    const int dimension = e.original.dimension();
+    e.problem.definitions.evaluate = [dimension, f = e.original.variables](
+                                         const std::vector<double>&, const std::vector<Eigen::VectorXd>& z) {
+      return f(z[0].head(dimension));
+    };
+  }
+  return e;
 }
 
 }  // namespace rmhb::examples

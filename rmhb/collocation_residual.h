@@ -25,6 +25,7 @@
 
 #include <Eigen/Dense>
 
+#include "rmhb/definition_check.h"
 #include "rmhb/harmonic_basis.h"
 #include "rmhb/nonlinear_solver.h"
 #include "rmhb/point_condition.h"
@@ -43,6 +44,10 @@ struct HarmonicBalanceProblem {
   std::vector<PointCondition> conditions;
   // Symmetries the solution is asserted to have (see rmhb/symmetry.h).
   std::vector<HalfTurnSymmetry> symmetries = {};
+  // The variables from their definitions (recast auxiliaries from the user
+  // variables), when known: SolveHarmonicBalance then checks a converged
+  // solution against them (rmhb/definition_check.h).
+  VariableDefinitions definitions = {};
 
   int num_unknown_frequencies() const;
   // Throws std::invalid_argument naming what is wrong.

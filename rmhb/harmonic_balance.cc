@@ -20,6 +20,9 @@ std::string HarmonicBalanceOptions::IsValid() const {
            std::to_string(order) + ")";
   for (int m : samples)
     if (m < 1) return "samples must be >= 1 (got " + std::to_string(m) + ")";
+  if (!(min_frequency_ratio >= 0) || !(min_frequency_ratio < 1))
+    return "min_frequency_ratio must be in [0, 1)";
+  if (std::string why = definition_check.IsValid(); !why.empty()) return "definition_check: " + why;
   return solver.IsValid();
 }
 
@@ -70,6 +73,49 @@ std::string Gib(double bytes) {
   return out.str();
 }
 
+// Sets summary->physical: a converged solution whose unknown frequency
+// collapsed (Newton on a singular system may slide to w = 0, a constant) or
+// whose auxiliaries are not their definitions is no oscillation of the model.
+void CheckPhysical(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions& options,
+                   HarmonicBalanceSummary* summary) {
+  if (!options.check_physical || !summary->converged() || !summary->solution) return;
+  const std::vector<double>& w = summary->solution->frequencies();
+  for (size_t b = 0; b < w.size(); ++b) {
+    if (problem.unknown_frequency.empty() || !problem.unknown_frequency[b]) continue;
+    const double guess = std::abs(problem.frequencies[b]);
+    if (!(w[b] > options.min_frequency_ratio * guess) || !(w[b] > 0)) {
+      std::ostringstream why;
+      why.precision(6);
+      why << "unknown frequency w" << b + 1 << " converged to " << w[b] << " (guess "
+          << problem.frequencies[b] << "): "
+          << (w[b] <= 0 ? "not a positive frequency" : "a vanishing frequency")
+          << ", the solution is a constant, not an oscillation";
+      summary->physical = false;
+      summary->non_physical = why.str();
+      return;
+    }
+  }
+  // Without auxiliaries every variable is a state: nothing to compare.
+  const std::vector<Variable>& variables = problem.system.variables();
+  if (!problem.definitions ||
+      std::none_of(variables.begin(), variables.end(),
+                   [](const Variable& v) { return v.role == VariableRole::kAuxiliary; }))
+    return;
+  summary->definition_check =
+      CheckDefinitions(*summary->solution, problem.definitions, summary->samples, options.definition_check);
+  if (const DefinitionCheck& c = *summary->definition_check; !c.physical) {
+    std::ostringstream why;
+    why.precision(3);
+    why << "auxiliary " << c.worst_variable << " is " << c.error
+        << " (relative) off its definition";
+    if (std::isfinite(c.worst_time)) why << " at t = " << c.worst_time;
+    why << " (tolerance " << c.tolerance << ", " << c.points
+        << " points between the samples): a wrong root of the recast or aliasing";
+    summary->physical = false;
+    summary->non_physical = why.str();
+  }
+}
+
 }  // namespace
 
 JacobianSize DenseJacobianSize(const HarmonicBalanceProblem& problem,
@@ -102,6 +148,7 @@ std::string HarmonicBalanceSummary::BriefReport() const {
   out << (alias_free ? " (alias-free)" : " (ALIASED)") << ": " << ToString(solver.status)
       << " in " << solver.iterations << " iterations, max|F| " << solver.final_residual << ", "
       << seconds * 1e3 << " ms";
+  if (!physical) out << "; NON-PHYSICAL: " << non_physical;
   return out.str();
 }
 
@@ -116,6 +163,8 @@ std::string HarmonicBalanceSummary::FullReport() const {
                      : " (below the bound: aliasing, non-physical solutions possible)")
       << "\n";
   out << "  " << solver.FullReport();
+  if (!physical) out << "  NON-PHYSICAL: " << non_physical << "\n";
+  else if (definition_check) out << "  definitions: " << definition_check->Report() << "\n";
   if (truncation_estimate >= 0) {
     out << "  order selection: orders";
     for (int o : orders_tried) out << " " << o;
@@ -398,6 +447,7 @@ HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& proble
   HarmonicBalanceSummary summary = options.tolerance > 0
                                        ? SelectOrder(problem, initial_guess, options)
                                        : SolveWithContinuation(problem, initial_guess, options);
+  CheckPhysical(problem, options, &summary);
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

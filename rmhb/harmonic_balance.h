@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "rmhb/collocation_residual.h"
+#include "rmhb/definition_check.h"
 #include "rmhb/harmonic_basis.h"
 #include "rmhb/harmonic_solution.h"
 #include "rmhb/nonlinear_solver.h"
@@ -79,6 +80,14 @@ struct HarmonicBalanceOptions {
   double tolerance = 0;
   int max_order = 5000;
   SolverOptions solver;
+  // After a converged solve: is it an oscillation of the original equations?
+  // An unknown base frequency at or below min_frequency_ratio times its
+  // guess (w = 0 is a constant, not an oscillation) and, when the problem
+  // has definitions, auxiliaries that disagree with them (a wrong root of
+  // the recast, aliasing) make it non-physical.
+  bool check_physical = true;
+  double min_frequency_ratio = 1e-3;
+  DefinitionCheckOptions definition_check;
 
   std::string IsValid() const;  // empty when valid
 };
@@ -98,8 +107,17 @@ struct HarmonicBalanceSummary {
   // the estimated error of the returned solution (-1 when not selected).
   std::vector<int> orders_tried;
   double truncation_estimate = -1;
+  // Set after a converged solve (options.check_physical): the algebra
+  // converged (solver.status) but the solution is not an oscillation of the
+  // original equations; `non_physical` says why (which frequency or
+  // auxiliary). The definition check, when the problem has definitions.
+  bool physical = true;
+  std::string non_physical;
+  std::optional<DefinitionCheck> definition_check;
 
   bool converged() const { return solver.converged(); }
+  // Converged and physical: the solution can be used.
+  bool usable() const { return converged() && physical; }
   std::string BriefReport() const;
   std::string FullReport() const;
 };

@@ -60,7 +60,9 @@ void Classify(const HarmonicBalanceProblem& problem, const MonteCarloOptions& op
   reference.solver.fallback_max_iterations = std::min(reference.solver.fallback_max_iterations, 5);
   const HarmonicBalanceSummary s = SolveHarmonicBalance(problem, cluster->representative, reference);
   cluster->reference_distance = HUGE_VAL;
-  if (!s.converged()) return;
+  // The reference must itself be physical (HarmonicBalanceSummary::physical:
+  // auxiliaries equal to their definitions, frequency not collapsed).
+  if (!s.usable()) return;
   const HarmonicBasis& basis = cluster->representative.basis();
   cluster->reference_distance = RelativeDistance(cluster->representative.coefficients(),
                                                  s.solution->OnBasis(basis).coefficients());

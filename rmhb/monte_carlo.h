@@ -7,8 +7,10 @@
 // each start is solved with each sampling rule (RHB, HDHB, ...) at the same
 // order; the converged solutions are clustered, and each cluster classified:
 //  - physical: a much higher-order alias-free solve started from it converges
-//    to a solution whose first harmonics it matches (relative distance below
-//    match_tolerance) -- it approximates a true periodic solution;
+//    to a physical solution (HarmonicBalanceSummary::physical, the definition
+//    check of rmhb/definition_check.h when the problem has auxiliaries) whose
+//    first harmonics it matches (relative distance below match_tolerance) --
+//    it approximates a true periodic solution;
 //  - non-physical otherwise (aliasing: HDHB below Theorem 1's bound);
 // and a physical one as stable or unstable by Hill's method on that
 // high-order solution (rmhb/hill_stability.h), optionally confirmed by a

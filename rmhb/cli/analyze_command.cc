@@ -197,6 +197,10 @@ int RunAnalyze(const AnalyzeArgs& a) {
       status = ToString(summary->solver.status);
       message = summary->solver.message;
       exit_code = kExitNotConverged;
+    } else if (!summary->physical) {
+      status = "non_physical";
+      message = summary->non_physical;
+      exit_code = kExitNonPhysical;
     }
     const int unknowns = summary->solution ? summary->solution->num_variables() *
                                                  summary->solution->basis().num_coefficients()
@@ -213,6 +217,8 @@ int RunAnalyze(const AnalyzeArgs& a) {
                   options.order, converged ? "converged" : "NOT converged", summary->solver.iterations,
                   summary->solver.final_residual);
     lines.push_back(text);
+    stages["solve"].update(PhysicalJson(*summary));
+    if (converged) lines.push_back("physical" + std::string(17, ' ') + PhysicalLine(*summary));
     if (converged && stages.contains("identify") && stages["identify"].contains("bases")) {
       const std::vector<double>& w = summary->solution->frequencies();
       for (int b = 0; b < bases; ++b) {

@@ -72,7 +72,10 @@ void AddSolveOptions(CLI::App* app, SolveArgs* a) {
       "Exit codes: 0 converged, 1 usage, 2 bad input (unknown model or parameter, model file\n"
       "error with file:line:column, invalid value, samples below the alias-free bound without\n"
       "--allow-aliasing, gnuplot missing for --plot), 3 not converged (the residual reached is\n"
-      "printed), 4 internal.");
+      "printed), 4 internal, 5 converged to a NON-PHYSICAL solution (status non_physical, the\n"
+      "reason printed: an auxiliary off its definition between the samples -- a wrong root of\n"
+      "the recast or aliasing -- or an unknown frequency collapsed to w <= 0; with --continue:\n"
+      "some point of the branch is non-physical).");
 }
 
 void PlotSolution(const ProblemSource& source, const HarmonicSolution& sol, const std::string& file) {
@@ -202,7 +205,7 @@ int RunSolve(const SolveArgs& a) {
 
   json out;
   out["model"] = a.settings.model;
-  out["status"] = converged ? "converged" : ToString(summary.solver.status);
+  out["status"] = !converged ? ToString(summary.solver.status) : summary.physical ? "converged" : "non_physical";
   out["message"] = summary.solver.message;
   out["method"] = ToString(options.rule);
   out["solver"] = ToString(summary.solver.method);
@@ -222,6 +225,7 @@ int RunSolve(const SolveArgs& a) {
   out["iterations"] = summary.solver.iterations;
   out["residual"] = Number(summary.solver.final_residual);
   out["seconds"] = summary.seconds;
+  out.update(PhysicalJson(summary));
   if (converged) {
     out.update(SolutionJson(sol));
   } else {
@@ -305,6 +309,7 @@ int RunSolve(const SolveArgs& a) {
       std::printf("residual     %.3e after %d iterations (%s)\n", summary.solver.final_residual,
                   summary.solver.iterations, ToString(summary.solver.method));
       std::printf("time         %.3f ms\n", summary.seconds * 1e3);
+      if (converged) std::printf("physical     %s\n", PhysicalLine(summary).c_str());
       if (summary.truncation_estimate >= 0) {
         std::printf("order        %d %s --tol %g (orders", summary.order,
                     converged ? "chosen for" : "reached, short of", options.tolerance);
@@ -354,6 +359,12 @@ int RunSolve(const SolveArgs& a) {
       std::fprintf(stderr, "rmhb: not converged: %s (max|F| = %.3e)\n",
                    summary.solver.message.c_str(), summary.solver.final_residual);
     return kExitNotConverged;
+  }
+  if (!summary.physical) {
+    if (!a.json)
+      std::fprintf(stderr, "rmhb: converged to a NON-PHYSICAL solution (not a solution of the model): %s\n",
+                   summary.non_physical.c_str());
+    return kExitNonPhysical;
   }
   return kExitOk;
 }

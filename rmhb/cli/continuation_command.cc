@@ -8,11 +8,13 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "integrators/trajectory_validation.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/solve_setup.h"
 #include "rmhb/continuation.h"
+#include "rmhb/definition_check.h"
 
 namespace rmhb::cli {
 namespace {
@@ -53,6 +55,7 @@ struct PointReport {
   double validation_error = NAN;   // with --validate
   // Against the model's exact reference at this parameter value, if any.
   double frequency_error = NAN, amplitude_error = NAN;
+  std::optional<DefinitionCheck> definitions;  // when the model has auxiliaries
   double reference_error() const {
     return std::isnan(frequency_error) ? std::abs(amplitude_error)
            : std::isnan(amplitude_error) ? std::abs(frequency_error)
@@ -117,6 +120,8 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
     r.peak = PeakValue(p.solution);
     r.stability = ToString(p.stability);
     const ProblemSource source = LoadSolveProblem(solve.settings, {{range.name, p.parameter}});
+    if (source.problem.definitions)
+      r.definitions = CheckDefinitions(p.solution, source.problem.definitions, summary.samples);
     if (source.reference.has_frequency())
       r.frequency_error = p.solution.frequencies()[0] - source.reference.frequency;
     if (source.reference.has_amplitude())
@@ -138,6 +143,7 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
                              prepared.source.reference.has_amplitude();
   json branch = json::array();
   json folds = json::array();
+  std::vector<size_t> non_physical;  // points whose auxiliaries are off their definitions
   for (size_t i = 0; i < summary.points.size(); ++i) {
     const ContinuationPoint& p = summary.points[i];
     json w = json::array();
@@ -150,12 +156,18 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
     if (has_reference)
       point["reference"] = {{"frequency_error", Number(reports[i].frequency_error)},
                             {"amplitude_error", Number(reports[i].amplitude_error)}};
+    if (const auto& c = reports[i].definitions) {
+      point["physical"] = c->physical;
+      point["definition_error"] = Number(c->error);
+      point["definition_worst"] = c->worst_variable;
+      if (!c->physical) non_physical.push_back(i);
+    }
     if (p.fold) folds.push_back(Number(p.parameter));
     branch.push_back(point);
   }
-  const int code = summary.completed() || summary.status == ContinuationStatus::kLeftRange
-                       ? kExitOk
-                       : kExitNotConverged;
+  const int code = !(summary.completed() || summary.status == ContinuationStatus::kLeftRange)
+                       ? kExitNotConverged
+                       : non_physical.empty() ? kExitOk : kExitNonPhysical;
 
   if (!solve.csv.empty()) {
     std::ofstream csv(solve.csv);
@@ -216,10 +228,15 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
                     p.residual, reports[i].stability.c_str());
         if (solve.validate) std::printf(" %-10.1e", reports[i].validation_error);
         if (has_reference) std::printf(" %.1e", reports[i].reference_error());
-        std::printf("%s\n", p.fold ? "  <- fold" : "");
+        std::printf("%s%s\n", p.fold ? "  <- fold" : "",
+                    reports[i].definitions && !reports[i].definitions->physical ? "  <- NON-PHYSICAL" : "");
       }
     }
   }
+  for (size_t i : non_physical)
+    if (!solve.json)
+      std::fprintf(stderr, "rmhb: NON-PHYSICAL point %s = %.15g: %s\n", range.name.c_str(),
+                   summary.points[i].parameter, reports[i].definitions->Report().c_str());
   if (code != kExitOk && !solve.json)
     std::fprintf(stderr, "rmhb: continuation stopped: %s\n", summary.message.c_str());
   return code;

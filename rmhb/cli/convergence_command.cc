@@ -135,6 +135,9 @@ struct Cell {
   double reciprocal_condition = kNaN;  // of the final Jacobian (SolverSummary)
   double frequency_error = kNaN, amplitude_error = kNaN, max_error = kNaN, trajectory_error = kNaN;
   double error = kNaN;  // the table's measure
+  bool physical = true;  // HarmonicBalanceSummary::physical of a converged cell
+  std::string non_physical;
+  double definition_error = kNaN;
 };
 
 using StateOf = std::function<Eigen::VectorXd(const HarmonicSolution&, double)>;
@@ -204,6 +207,9 @@ Cell Run(const ProblemSource& source, const Column& column, int order, int repea
   cell.residual = s.solver.final_residual;
   cell.seconds = s.seconds;
   if (s.converged()) Measure(source, *s.solution, column.state, &cell);
+  cell.physical = s.physical;
+  cell.non_physical = s.non_physical;
+  if (s.definition_check) cell.definition_error = s.definition_check->error;
   return cell;
 }
 
@@ -213,12 +219,15 @@ json CellJson(int order, const Cell& c) {
           {"reciprocal_condition", Number(c.reciprocal_condition)},
           {"error", Number(c.error)}, {"frequency_error", Number(c.frequency_error)},
           {"amplitude_error", Number(c.amplitude_error)}, {"max_error", Number(c.max_error)},
-          {"trajectory_error", Number(c.trajectory_error)}};
+          {"trajectory_error", Number(c.trajectory_error)}, {"physical", c.physical},
+          {"non_physical", c.non_physical}, {"definition_error", Number(c.definition_error)}};
 }
 
 std::string CellText(const Cell& c) {
   char buf[64];
-  if (c.status == "converged" && std::isfinite(c.error))
+  if (c.status == "converged" && !c.physical)  // '!': see the note under the table
+    std::snprintf(buf, sizeof buf, "%7.1e! %8.2f %5d", c.error, c.seconds * 1e3, c.samples);
+  else if (c.status == "converged" && std::isfinite(c.error))
     std::snprintf(buf, sizeof buf, "%8.1e %8.2f %5d", c.error, c.seconds * 1e3, c.samples);
   else if (c.status == "converged")
     std::snprintf(buf, sizeof buf, "%8s %8.2f %5d", "n/a", c.seconds * 1e3, c.samples);
@@ -333,10 +342,12 @@ void AddConvergenceOptions(CLI::App* app, ConvergenceArgs* a) {
       "Error: against the example's exact reference (the solution over a period, else the\n"
       "amplitude, else the frequency), otherwise against a CVODE trajectory of the original\n"
       "equations started on the solution. Time: the whole solve (order continuation included).\n"
-      "Text cells: error, time in ms, samples M. The taylor column needs the model's equations:\n"
+      "Text cells: error, time in ms, samples M; '!' after the error marks a converged but\n"
+      "NON-PHYSICAL solution (explained under the table; JSON \"physical\": false). The taylor\n"
+      "column needs the model's equations:\n"
       "a model file, or for an example examples/models/<name>.yaml.\n"
       "Exit codes: 0 ok (also when some cells did not converge: they are reported), 1 usage,\n"
-      "2 bad input, 3 no cell converged, 4 internal.");
+      "2 bad input, 3 no cell converged, 4 internal, 5 every converged cell non-physical.");
 }
 
 int RunConvergence(const ConvergenceArgs& a) {
@@ -460,11 +471,12 @@ int RunConvergence(const ConvergenceArgs& a) {
         columns.push_back(std::move(col));
       }
 
-  int converged = 0;
+  int converged = 0, physical = 0;
   for (auto& col : columns)
     for (int order : orders) {
       col.cells.push_back(col.unavailable.empty() ? Run(source, col, order, a.repeat) : Cell{});
       converged += col.cells.back().status == "converged";
+      physical += col.cells.back().status == "converged" && col.cells.back().physical;
     }
 
   const std::string first = source.problem.system.variables()[0].name;
@@ -501,6 +513,10 @@ int RunConvergence(const ConvergenceArgs& a) {
     for (const auto& col : columns) {
       if (!col.unavailable.empty()) std::printf("%s: not run: %s\n", col.name.c_str(), col.unavailable.c_str());
       for (size_t i = 0; i < col.cells.size(); ++i)
+        if (col.cells[i].status == "converged" && !col.cells[i].physical)
+          std::printf("%s, order %d: ! NON-PHYSICAL: %s\n", col.name.c_str(), orders[i],
+                      col.cells[i].non_physical.c_str());
+      for (size_t i = 0; i < col.cells.size(); ++i)
         if (col.cells[i].status == "refused") {
           std::printf("%s, order %d: refused: %s\n", col.name.c_str(), orders[i], col.cells[i].message.c_str());
           break;
@@ -515,6 +531,10 @@ int RunConvergence(const ConvergenceArgs& a) {
   if (converged == 0) {
     std::fprintf(stderr, "rmhb: no solve converged\n");
     return kExitNotConverged;
+  }
+  if (physical == 0) {
+    std::fprintf(stderr, "rmhb: every converged solve is NON-PHYSICAL\n");
+    return kExitNonPhysical;
   }
   return kExitOk;
 }

@@ -25,7 +25,9 @@ int main(int argc, char** argv) {
       "reconstruction harmonic balance (RHB), to machine precision.\n\n"
       "Exit codes: 0 ok, 1 usage error, 2 bad input (unknown model or parameter, invalid\n"
       "value, gnuplot missing for --plot), 3 the solver did not converge (the residual\n"
-      "reached is reported) or an integration stopped early, 4 internal.\n"
+      "reached is reported) or an integration stopped early, 4 internal, 5 converged to a\n"
+      "NON-PHYSICAL solution (an auxiliary off its definition between the samples, e.g. the\n"
+      "wrong root of a sqrt recast or aliasing, or an unknown frequency collapsed to w <= 0).\n"
       "`rmhb <command> --help` describes each command, its options and defaults."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "rmhb 0.1.0");
@@ -74,7 +76,8 @@ int main(int argc, char** argv) {
   CLI::App* analyze_cmd = app.add_subcommand(
       "analyze", "Integrate, identify the base frequencies, seed and solve RHB/RMHB, validate:\n"
                  "every stage's error and run time in one report. --frequencies skips identification.\n"
-                 "Exit 3 when the identification or the solve fails (status says which).");
+                 "Exit 3 when the identification or the solve fails (status says which), 5 when the\n"
+                 "solve converges to a non-physical solution.");
   AddAnalyzeOptions(analyze_cmd, &analyze);
 
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");

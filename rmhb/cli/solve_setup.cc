@@ -208,4 +208,27 @@ json SolutionJson(const HarmonicSolution& sol) {
   return out;
 }
 
+json PhysicalJson(const HarmonicBalanceSummary& summary) {
+  json out = json::object();
+  if (!summary.converged()) return out;
+  out["physical"] = summary.physical;
+  if (!summary.physical) out["non_physical"] = summary.non_physical;
+  if (const auto& c = summary.definition_check) {
+    out["definition_error"] = Number(c->error);
+    out["definition_worst"] = c->worst_variable;
+    out["definition_worst_time"] = Number(c->worst_time);
+    out["definition_tolerance"] = Number(c->tolerance);
+    out["definition_points"] = c->points;
+    out["definition_seconds"] = c->seconds;
+  }
+  return out;
+}
+
+std::string PhysicalLine(const HarmonicBalanceSummary& summary) {
+  if (!summary.converged()) return "";
+  if (!summary.physical) return "NO: " + summary.non_physical;
+  if (summary.definition_check) return "yes: " + summary.definition_check->Report();
+  return "yes (no collapsed frequency; no auxiliaries to check)";
+}
+
 }  // namespace rmhb::cli

@@ -77,6 +77,14 @@ nlohmann::json Number(double v);
 // coefficients (original variables) and auxiliary_coefficients.
 nlohmann::json SolutionJson(const HarmonicSolution& solution);
 
+// The physical check of a converged solve (HarmonicBalanceSummary::physical):
+// "physical", "non_physical" (why, when not), and with a definition check
+// "definition_error", "definition_worst", "definition_worst_time",
+// "definition_tolerance". Empty when the solve did not converge.
+nlohmann::json PhysicalJson(const HarmonicBalanceSummary& summary);
+// The verdict in words: "yes: max |solved - definition| ..." or "NO: why".
+std::string PhysicalLine(const HarmonicBalanceSummary& summary);
+
 }  // namespace rmhb::cli
 
 #endif  // RMHB_CLI_SOLVE_SETUP_H_

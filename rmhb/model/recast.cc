@@ -641,6 +641,7 @@ class Recaster {
     std::vector<ex> inputs(angles.begin(), angles.end());
     std::vector<ex> user_values;
     std::vector<int> output_variable;  // recast variable of each user value, or -1
+    std::vector<SlotRef> user_slots;   // where each user value lives in a solution
     result->user_derivatives.clear();
     for (std::size_t v = 0; v < chain_.size(); ++v) {
       ex g = Substituted(s_.guess[v]);
@@ -651,6 +652,7 @@ class Recaster {
         user_values.push_back(g);
         const SlotRef ref = slots_.at(sym);
         output_variable.push_back(ref.derivative ? -1 : ref.variable);
+        user_slots.push_back(ref);
         g = g.diff(s_.t);
       }
     }
@@ -702,6 +704,17 @@ class Recaster {
       return out;
     };
     result->variables_from_user = from_user;
+    // The check of a solution against the definitions: the user values read
+    // off the solution (a value, or the derivative of the chain's top state).
+    result->problem.definitions.derivatives = 1;
+    result->problem.definitions.evaluate = [user_slots, from_user](
+                                               const std::vector<double>& theta,
+                                               const std::vector<Eigen::VectorXd>& z) {
+      std::vector<double> user(user_slots.size());
+      for (std::size_t k = 0; k < user_slots.size(); ++k)
+        user[k] = z[user_slots[k].derivative](user_slots[k].variable);
+      return from_user(theta, user);
+    };
     result->guess = [guess, from_user](const std::vector<double>& theta) {
       std::vector<double> user(guess->output_variable.size()), work;
       guess->user.Evaluate(theta.data(), user.data(), &work);
