@@ -56,13 +56,16 @@ TEST(PhysicalCli, AliasedHdhbIsExitFive) {
 }
 
 // Newton on the pendulum's scheme 3 slides to w = 0: the table marks the cell.
+// Its Jacobian is near singular, so whether one order collapses or stalls
+// depends on the LU's last bits (at N = 25 LAPACK's stalls, Eigen's
+// collapsed): two orders, every converged cell non-physical.
 TEST(PhysicalCli, ConvergenceMarksTheScheme3Collapse) {
-  const CliRun run = Cli("convergence pendulum --methods rhb --conditions scheme3 --solver newton --orders 25");
+  const CliRun run = Cli("convergence pendulum --methods rhb --conditions scheme3 --solver newton --orders 10,20");
   EXPECT_EQ(run.code, kExitNonPhysical) << run.out;
   EXPECT_NE(run.out.find("!"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("unknown frequency w1 converged to"), std::string::npos) << run.out;
   const nlohmann::json j =
-      Json("convergence pendulum --methods rhb --conditions model,scheme3 --solver newton --orders 25 --json");
+      Json("convergence pendulum --methods rhb --conditions model,scheme3 --solver newton --orders 10,20 --json");
   bool saw_physical = false, saw_collapse = false;
   for (const auto& column : j["columns"])
     for (const auto& cell : column["rows"]) {
