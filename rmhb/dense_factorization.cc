@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 // LAPACK's Fortran interface as OpenBLAS exports it (32-bit integers on
 // Debian). The trailing size_t arguments are gfortran's hidden lengths of the
@@ -73,18 +74,20 @@ int DenseFactorizationThreads() {
   return threads > 0 ? threads : DefaultThreads();
 }
 
-DenseLu& DenseLu::compute(const Eigen::MatrixXd& A) {
+DenseLu& DenseLu::compute(const Eigen::MatrixXd& A) { return compute(Eigen::MatrixXd(A)); }
+
+DenseLu& DenseLu::compute(Eigen::MatrixXd&& A) {
   if (A.rows() != A.cols())
     throw std::invalid_argument("DenseLu: the matrix is " + std::to_string(A.rows()) + " x " +
                                 std::to_string(A.cols()) + ", not square");
   const int n = Dimension(A.rows(), "DenseLu");
-  lu_ = A;
   pivots_.assign(n, 0);
   rcond_ = 0;
   singular_ = false;
-  if (n == 0) return *this;
   // dgecon needs the 1-norm of A itself, before it is overwritten.
-  const double norm = A.cwiseAbs().colwise().sum().maxCoeff();
+  const double norm = n ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0;
+  lu_ = std::move(A);
+  if (n == 0) return *this;
   PinThreads(n);
   int info = 0;
   dgetrf_(&n, &n, lu_.data(), &n, pivots_.data(), &info);
@@ -98,7 +101,11 @@ DenseLu& DenseLu::compute(const Eigen::MatrixXd& A) {
   return *this;
 }
 
-Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const {
+Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const { return Solve(b, "N"); }
+
+Eigen::VectorXd DenseLu::solve_transposed(const Eigen::VectorXd& b) const { return Solve(b, "T"); }
+
+Eigen::VectorXd DenseLu::Solve(const Eigen::VectorXd& b, const char* trans) const {
   const int n = static_cast<int>(lu_.rows());
   if (b.size() != n)
     throw std::invalid_argument("DenseLu::solve: right-hand side of size " +
@@ -109,17 +116,19 @@ Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const {
   PinThreads(n);
   const int one = 1;
   int info = 0;
-  dgetrs_("N", &n, &one, lu_.data(), &n, pivots_.data(), x.data(), &n, &info, 1);
+  dgetrs_(trans, &n, &one, lu_.data(), &n, pivots_.data(), x.data(), &n, &info, 1);
   if (info != 0) throw std::logic_error("dgetrs: argument " + std::to_string(-info) + " invalid");
   return x;
 }
 
-DenseQr& DenseQr::compute(const Eigen::MatrixXd& A) {
+DenseQr& DenseQr::compute(const Eigen::MatrixXd& A) { return compute(Eigen::MatrixXd(A)); }
+
+DenseQr& DenseQr::compute(Eigen::MatrixXd&& A) {
   if (A.rows() < A.cols())
     throw std::invalid_argument("DenseQr: the matrix is " + std::to_string(A.rows()) + " x " +
                                 std::to_string(A.cols()) + ", fewer rows than columns");
   const int m = Dimension(A.rows(), "DenseQr"), n = Dimension(A.cols(), "DenseQr");
-  qr_ = A;
+  qr_ = std::move(A);
   tau_.assign(n, 0.0);
   if (n == 0) return *this;
   PinThreads(n);

@@ -45,9 +45,13 @@ int DenseFactorizationThreads();  // the count in effect for large matrices
 class DenseLu {
  public:
   DenseLu& compute(const Eigen::MatrixXd& A);
+  // Factorises in A's own storage: no second n x n copy (1 GiB at n = 12000).
+  DenseLu& compute(Eigen::MatrixXd&& A);
   // x with A x = b; every entry NaN when A is exactly singular (a zero pivot),
   // which the caller sees as a non-finite step.
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  // x with A' x = b, from the same factors (condition estimators need it).
+  Eigen::VectorXd solve_transposed(const Eigen::VectorXd& b) const;
   // Reciprocal 1-norm condition estimate (Hager/Higham, dgecon); 0 when
   // singular.
   double rcond() const { return rcond_; }
@@ -56,6 +60,8 @@ class DenseLu {
  private:
   Eigen::MatrixXd lu_;
   std::vector<int> pivots_;
+  Eigen::VectorXd Solve(const Eigen::VectorXd& b, const char* trans) const;
+
   double rcond_ = 0;
   bool singular_ = true;
 };
@@ -64,6 +70,7 @@ class DenseLu {
 class DenseQr {
  public:
   DenseQr& compute(const Eigen::MatrixXd& A);
+  DenseQr& compute(Eigen::MatrixXd&& A);  // in A's own storage
   // The least-squares solution of min |A x - b|; every entry NaN when R has
   // a zero diagonal entry (rank deficient to the last bit).
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "rmhb/dense_factorization.h"
+#include "rmhb/equilibration.h"
 
 namespace rmhb {
 namespace {
@@ -15,30 +16,92 @@ double MaxAbs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoef
 
 bool Finite(const Eigen::VectorXd& v) { return v.allFinite(); }
 
-// Newton direction: exact solve when square, least squares otherwise. The
-// factorisation is kept so that chord steps can reuse it: at a few hundred
-// unknowns the O(n^3) factorisation dominates everything else.
+double DiagonalRatio(const Eigen::VectorXd& d) {
+  const Eigen::VectorXd a = d.cwiseAbs();
+  return a.size() && a.maxCoeff() > 0 ? a.minCoeff() / a.maxCoeff() : 0;
+}
+
+// Newton direction of the equilibrated system J_s = D_r J D_c: exact solve
+// when square, least squares otherwise; Step returns the scaled step y
+// (dx = D_c y). The factorisation is kept so that chord steps can reuse it:
+// at a few hundred unknowns the O(n^3) factorisation dominates everything
+// else. The scaled matrix is evaluated straight into the factorisation's own
+// storage, so scaling costs no extra copy of J.
 class NewtonFactorization {
  public:
-  void Factor(const Eigen::MatrixXd& J) {
+  void Factor(const Eigen::MatrixXd& J, const Equilibration& e, bool scaled) {
     square_ = J.rows() == J.cols();
+    // Least squares keeps the model's row weights (see SolverOptions::scaling):
+    // the QR of J D_c has J's Q and R D_c, so only the columns are scaled.
+    row_ = square_ ? e.row : Eigen::VectorXd::Ones(J.rows());
+    column_ = e.column;
     if (square_) {
-      lu_.compute(J);
-      reciprocal_condition_ = lu_.rcond();
+      lu_.compute(Eigen::MatrixXd(row_.asDiagonal() * J * column_.asDiagonal()));
+      scaled_reciprocal_condition_ = lu_.rcond();
+      reciprocal_condition_ = scaled_reciprocal_condition_;
+      if (scaled) {
+        const double inverse_norm = InverseOneNorm();
+        const double norm = J.cwiseAbs().colwise().sum().maxCoeff();
+        reciprocal_condition_ =
+            std::isfinite(inverse_norm) && inverse_norm > 0 && norm > 0 ? 1 / (norm * inverse_norm) : 0;
+      }
     } else {
-      qr_.compute(J);
-      const Eigen::VectorXd r = qr_.matrixQR().diagonal().cwiseAbs();
-      reciprocal_condition_ = r.size() && r.maxCoeff() > 0 ? r.minCoeff() / r.maxCoeff() : 0;
+      qr_.compute(Eigen::MatrixXd(row_.asDiagonal() * J * column_.asDiagonal()));
+      const Eigen::VectorXd r = qr_.matrixQR().diagonal();
+      scaled_reciprocal_condition_ = DiagonalRatio(r);
+      reciprocal_condition_ = DiagonalRatio(r.cwiseQuotient(column_));
     }
   }
   double reciprocal_condition() const { return reciprocal_condition_; }
+  double scaled_reciprocal_condition() const { return scaled_reciprocal_condition_; }
+  const Eigen::VectorXd& row() const { return row_; }
+  const Eigen::VectorXd& column() const { return column_; }
+  // The scaled Newton step y for the residual F (unscaled).
   Eigen::VectorXd Step(const Eigen::VectorXd& F) const {
-    return square_ ? Eigen::VectorXd(-lu_.solve(F)) : Eigen::VectorXd(-qr_.solve(F));
+    const Eigen::VectorXd b = row_.cwiseProduct(F);
+    return square_ ? Eigen::VectorXd(-lu_.solve(b)) : Eigen::VectorXd(-qr_.solve(b));
   }
 
  private:
+  // |J^-1|_1 of the unscaled J by Hager's estimator with Higham's extra
+  // alternating vector (Higham, ACM TOMS 14, 1988), through
+  // J^-1 = D_c J_s^-1 D_r and J^-T = D_r J_s^-T D_c: a few O(n^2) solves
+  // with the LU already made, no second factorisation.
+  double InverseOneNorm() const {
+    const Eigen::Index n = column_.size();
+    if (n == 0) return 0;
+    auto solve = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+      return column_.cwiseProduct(lu_.solve(row_.cwiseProduct(v)));
+    };
+    auto solve_transposed = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+      const Eigen::VectorXd b = column_.cwiseProduct(v);
+      const Eigen::VectorXd solved = lu_.solve_transposed(b);
+      return row_.cwiseProduct(solved);
+    };
+    Eigen::VectorXd x = Eigen::VectorXd::Constant(n, 1.0 / n);
+    double estimate = 0;
+    Eigen::Index previous = -1;
+    for (int k = 0; k < 5; ++k) {
+      const Eigen::VectorXd y = solve(x);
+      estimate = std::max(estimate, y.lpNorm<1>());
+      const Eigen::VectorXd sign = y.unaryExpr([](double v) { return v >= 0 ? 1.0 : -1.0; });
+      const Eigen::VectorXd z = solve_transposed(sign);
+      Eigen::Index j = 0;
+      const double largest = z.cwiseAbs().maxCoeff(&j);
+      if (!(largest > z.dot(x)) || j == previous) break;
+      x.setZero();
+      x(j) = 1;
+      previous = j;
+    }
+    Eigen::VectorXd b(n);
+    for (Eigen::Index i = 0; i < n; ++i)
+      b(i) = (i % 2 ? -1.0 : 1.0) * (1 + double(i) / std::max<Eigen::Index>(n - 1, 1));
+    return std::max(estimate, 2 * solve(b).lpNorm<1>() / (3.0 * n));
+  }
+
   bool square_ = true;
-  double reciprocal_condition_ = 0;
+  double reciprocal_condition_ = 0, scaled_reciprocal_condition_ = 0;
+  Eigen::VectorXd row_, column_;
   DenseLu lu_;  // LAPACK: 1.4-2.4x faster than Eigen's at large n
   DenseQr qr_;
 };
@@ -73,6 +136,14 @@ SolverMethod ParseSolverMethod(const std::string& name) {
   if (name == "lm") return SolverMethod::kLevenbergMarquardt;
   if (name == "tikhonov") return SolverMethod::kTikhonov;
   throw std::invalid_argument("unknown solver '" + name + "' (expected newton, lm, tikhonov or auto)");
+}
+
+const char* ToString(Scaling s) { return s == Scaling::kNone ? "none" : "equilibrate"; }
+
+Scaling ParseScaling(const std::string& name) {
+  if (name == "none") return Scaling::kNone;
+  if (name == "equilibrate") return Scaling::kEquilibrate;
+  throw std::invalid_argument("unknown scaling '" + name + "' (expected equilibrate or none)");
 }
 
 const char* ToString(SolverStatus s) {
@@ -114,9 +185,15 @@ std::string SolverSummary::FullReport() const {
   out << BriefReport() << "\n";
   out << "  unknowns " << num_unknowns << ", residuals " << num_residuals << ", evaluations "
       << evaluations << ", last step " << final_step << "\n";
+  if (scaling == Scaling::kEquilibrate)
+    out << "  equilibrated (D_r J D_c, power-of-two Ruiz): scaled max|D_r F| " << scaled_residual
+        << "\n";
   if (condition_estimate > 0) out << "  condition estimate of J: " << condition_estimate << "\n";
   if (reciprocal_condition > 0)
     out << "  reciprocal condition of the last factorised J: " << reciprocal_condition << "\n";
+  if (scaling == Scaling::kEquilibrate && scaled_reciprocal_condition > 0)
+    out << "  reciprocal condition of the equilibrated D_r J D_c: " << scaled_reciprocal_condition
+        << "\n";
   if (!message.empty()) out << "  " << message << "\n";
   return out.str();
 }
@@ -160,6 +237,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   SolverSummary s;
   s.num_unknowns = problem.num_unknowns();
   s.num_residuals = problem.num_residuals();
+  s.scaling = options.scaling;
   auto finish = [&](SolverStatus status, std::string message) {
     s.status = status;
     s.message = std::move(message);
@@ -177,7 +255,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   // A residual that cannot be evaluated is reported as infinite, never as the
   // default 0 (which would read as an exact solution).
   if (!Finite(*x)) {
-    s.initial_residual = s.final_residual = INFINITY;
+    s.initial_residual = s.final_residual = s.scaled_residual = INFINITY;
     return finish(SolverStatus::kInvalidInput, "initial guess is not finite");
   }
 
@@ -188,12 +266,49 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   Eigen::MatrixXd J(s.num_residuals, s.num_unknowns);
   ++s.evaluations;
   if (!problem.Evaluate(*x, &F, &J) || !Finite(F) || !J.allFinite()) {
-    s.initial_residual = s.final_residual = INFINITY;
+    s.initial_residual = s.final_residual = s.scaled_residual = INFINITY;
     return finish(SolverStatus::kFailure, "the initial guess gives non-finite residuals");
   }
-  double norm = MaxAbs(F);
-  s.initial_residual = s.final_residual = norm;
-  s.residual_history.push_back(norm);
+  // D_r, D_c of the Jacobian last factorised (or, for the regularised
+  // methods, of the current one). Every test below is on scaled quantities.
+  const bool scaled = options.scaling == Scaling::kEquilibrate;
+  Equilibration scaling = IdentityEquilibration(s.num_residuals, s.num_unknowns);
+  bool stale = true;  // J changed since `scaling` was computed
+  auto rescale = [&] {
+    if (scaled && stale) scaling = Equilibrate(J);
+    stale = false;
+  };
+  auto scaled_norm = [&](const Eigen::VectorXd& residual) {
+    return MaxAbs(scaling.row.cwiseProduct(residual));
+  };
+  auto scaled_size = [&](const Eigen::VectorXd& v) { return MaxAbs(v.cwiseQuotient(scaling.column)); };
+  // What the tolerances are relative to. Equilibration fixes how rows and
+  // columns compare with each other, but J alone cannot tell the units of F
+  // from those of x (x -> a x, F -> b F scales J by b/a; Ruiz splits that
+  // evenly, D_r, D_c -> sqrt(a/b) D_r, D_c). max|D_r F| and max|D_c^-1 dx|
+  // both scale by sqrt(a b), as does max|D_c^-1 x|: measured against it the
+  // tests do not depend on units at all. The starting point's size stands
+  // in while x passes through 0, and 1 when both are 0. Unscaled: absolute
+  // on F, 1 + max|x| on the step, as before.
+  const Eigen::VectorXd x0 = *x;
+  auto residual_scale = [&] {
+    if (!scaled) return 1.0;
+    const double size = std::max(scaled_size(*x), scaled_size(x0));
+    return size > 0 ? size : 1.0;
+  };
+  auto step_scale = [&] { return scaled ? residual_scale() : 1 + MaxAbs(*x); };
+  rescale();
+  double norm = scaled_norm(F);
+  s.initial_residual = s.final_residual = MaxAbs(F);
+  s.scaled_residual = norm;
+  s.residual_history.push_back(s.final_residual);
+  // "max|F| = 3e-9" in messages, with the scaled value the tests used.
+  auto residual_text = [&] {
+    std::ostringstream out;
+    out << "max|F| = " << MaxAbs(F);
+    if (scaled) out << " (scaled max|D_r F| = " << norm << ")";
+    return out.str();
+  };
   double lambda = options.initial_lambda;
   int stalled = 0;
   NewtonFactorization factorization;
@@ -207,11 +322,12 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   auto time_up = [&] {
     std::ostringstream msg;
     msg << "time budget of " << options.max_seconds << " s used up after " << s.iterations
-        << " iterations (" << ToString(method) << "), max|F| = " << norm;
+        << " iterations (" << ToString(method) << "), " << residual_text();
     return finish(SolverStatus::kNoConvergence, msg.str());
   };
+  double step = 0;  // max|D_c^-1 dx| of the last step
   for (s.iterations = 1; s.iterations <= options.max_iterations; ++s.iterations) {
-    if (norm <= options.residual_tolerance) {
+    if (norm <= options.residual_tolerance * residual_scale()) {
       --s.iterations;
       break;
     }
@@ -225,25 +341,34 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     double trial_norm = norm;
     if (method == SolverMethod::kNewton) {
       if (!factored) {
-        factorization.Factor(J);
+        rescale();
+        norm = scaled_norm(F);
+        factorization.Factor(J, scaling, scaled);
         s.reciprocal_condition = factorization.reciprocal_condition();
+        s.scaled_reciprocal_condition = factorization.scaled_reciprocal_condition();
         factored = true;
         chord = false;
       }
-      dx = factorization.Step(F);
-      if (!Finite(dx)) return finish(SolverStatus::kFailure, "singular Jacobian (Newton step is not finite); try --solver lm");
+      Eigen::VectorXd y = factorization.Step(F);
+      if (!Finite(y)) return finish(SolverStatus::kFailure, "singular Jacobian (Newton step is not finite); try --solver lm");
       // Damping by Deuflhard's natural monotonicity test: accept x + t dx
       // when the simplified Newton correction |J^-1 F(x + t dx)| shrinks by
       // (1 - t/4). It is affine invariant, so the harmonic balance rows that
       // scale with k w do not dominate the test the way they dominate |F|^2,
-      // and full steps are taken far earlier. The full step comes first.
-      const double dx_norm = dx.norm();
+      // and full steps are taken far earlier; row scaling cannot change it.
+      // The corrections are measured in the model's own unknowns, not in
+      // D_c^-1 x: in the scaled norm the first step of every order-
+      // continuation level of the relativistic oscillator (beta = 0.95) was
+      // damped to 1/8, the levels drifted apart, and --tol took 60 s instead
+      // of 0.1 s. The full step comes first.
+      dx = factorization.column().cwiseProduct(y);
+      const double y_norm = dx.norm();
       for (double t = 1.0; t > 1e-4; t *= 0.5) {
         xtrial = *x + t * dx;
         ++s.evaluations;
         if (problem.Evaluate(xtrial, &Ftrial, nullptr) && Finite(Ftrial)) {
-          const double simplified = factorization.Step(Ftrial).norm();
-          if (simplified <= (1 - 0.25 * t) * dx_norm) {
+          const double simplified = factorization.column().cwiseProduct(factorization.Step(Ftrial)).norm();
+          if (simplified <= (1 - 0.25 * t) * y_norm) {
             accepted = true;
             dx *= t;
             damping = t;
@@ -256,6 +381,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         // Retry this iteration with a fresh Jacobian at the same point.
         ++s.evaluations;
         problem.Evaluate(*x, &F, &J);
+        stale = true;
         factored = false;
         --s.iterations;
         continue;
@@ -266,36 +392,51 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         xtrial = *x + dx;
         ++s.evaluations;
         if (problem.Evaluate(xtrial, &Ftrial, nullptr) && Finite(Ftrial) &&
-            MaxAbs(Ftrial) <= 10 * norm + 1e-300)
+            scaled_norm(Ftrial) <= 10 * norm + 1e-300)
           accepted = true;
       }
+
       if (accepted) {
         // Keep the factorisation while it still contracts fast (chord/
         // Shamanskii steps); otherwise refresh the Jacobian at the new point.
-        const double ratio = MaxAbs(Ftrial) / std::max(norm, 1e-300);
-        if (ratio < options.chord_contraction && MaxAbs(Ftrial) > options.residual_tolerance) {
+        const double trial = scaled_norm(Ftrial);
+        const double ratio = trial / std::max(norm, 1e-300);
+        if (ratio < options.chord_contraction &&
+            trial > options.residual_tolerance * residual_scale()) {
           chord = true;
         } else {
           factored = false;
         }
       }
     } else {
-      const Eigen::MatrixXd JtJ = J.transpose() * J;
-      const Eigen::VectorXd JtF = J.transpose() * F;
+      // The regularised methods see J afresh every iteration: rescale it.
+      rescale();
+      norm = scaled_norm(F);
+      // Row weights for a square system only, as in NewtonFactorization.
+      const Eigen::VectorXd weights = s.num_residuals == s.num_unknowns
+                                          ? scaling.row
+                                          : Eigen::VectorXd::Ones(s.num_residuals);
+      const Eigen::MatrixXd Js = weights.asDiagonal() * J * scaling.column.asDiagonal();
+      const Eigen::VectorXd Fs = weights.cwiseProduct(F);
+      const Eigen::MatrixXd JtJ = Js.transpose() * Js;
+      const Eigen::VectorXd JtF = Js.transpose() * Fs;
+      const double F_squared = Fs.squaredNorm();
+      Eigen::VectorXd y;
       for (int attempt = 0; attempt < 30 && !accepted; ++attempt) {
         Eigen::VectorXd diagonal;
         if (method == SolverMethod::kLevenbergMarquardt) {
           diagonal = lambda * JtJ.diagonal().cwiseMax(1e-300);
         } else {
           diagonal = Eigen::VectorXd::Constant(s.num_unknowns,
-                                               options.tikhonov_factor * std::sqrt(F.squaredNorm()) * lambda / options.initial_lambda);
+                                               options.tikhonov_factor * std::sqrt(F_squared) * lambda / options.initial_lambda);
         }
-        dx = RegularizedStep(JtJ, JtF, diagonal);
+        y = RegularizedStep(JtJ, JtF, diagonal);
+        dx = scaling.column.cwiseProduct(y);
         if (Finite(dx)) {
           xtrial = *x + dx;
           ++s.evaluations;
           if (problem.Evaluate(xtrial, &Ftrial, nullptr) && Finite(Ftrial) &&
-              Ftrial.squaredNorm() < F.squaredNorm()) {
+              weights.cwiseProduct(Ftrial).squaredNorm() < F_squared) {
             accepted = true;
             lambda = std::max(lambda / options.lambda_factor, 1e-20);
             break;
@@ -305,20 +446,20 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         if (lambda > 1e20) break;
         if (out_of_time()) return time_up();
       }
-      if (!accepted && MaxAbs(dx) <= options.step_tolerance * (1 + MaxAbs(*x)) * 1e3) {
+      if (!accepted && MaxAbs(y) <= options.step_tolerance * step_scale() * 1e3) {
         // Already at the floor: no step can reduce |F| in floating point.
         s.final_step = MaxAbs(dx);
         --s.iterations;
-        if (norm > options.acceptable_residual)
-          return finish(SolverStatus::kNoConvergence,
-                        "stalled at max|F| = " + std::to_string(norm));
+        s.scaled_residual = norm;
+        if (norm > options.acceptable_residual * residual_scale())
+          return finish(SolverStatus::kNoConvergence, "stalled at " + residual_text());
         return finish(SolverStatus::kConverged, "residual at its round-off floor");
       }
     }
     if (!accepted) {
       s.final_step = dx.size() ? MaxAbs(dx) : 0;
       return finish(SolverStatus::kNoConvergence,
-                    "no step reduces the residual (max|F| = " + std::to_string(norm) +
+                    "no step reduces the residual (" + residual_text() +
                         "); the initial guess may be too far from a solution");
     }
     *x = xtrial;
@@ -326,22 +467,27 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
       F = Ftrial;
     } else {
       ++s.evaluations;
+      stale = true;
       if (!problem.Evaluate(*x, &F, &J) || !Finite(F) || !J.allFinite())
         return finish(SolverStatus::kFailure, "non-finite residual or Jacobian during iteration");
     }
-    trial_norm = MaxAbs(F);
+    trial_norm = scaled_norm(F);
     s.final_step = MaxAbs(dx);
-    s.residual_history.push_back(trial_norm);
+    step = scaled_size(dx);
+    s.final_residual = MaxAbs(F);
+    s.residual_history.push_back(s.final_residual);
     if (options.verbose)
-      std::fprintf(stderr, "  iter %3d  max|F| %.3e  step %.3e  damping %.3g%s\n", s.iterations,
-                   trial_norm, s.final_step, damping, chord ? " (chord)" : "");
+      std::fprintf(stderr, "  iter %3d  max|F| %.3e  scaled %.3e  step %.3e  damping %.3g%s\n",
+                   s.iterations, s.final_residual, trial_norm, s.final_step, damping,
+                   chord ? " (chord)" : "");
     stalled = trial_norm > 0.5 * norm ? stalled + 1 : 0;
     norm = trial_norm;
-    s.final_residual = norm;
-    if (norm <= options.residual_tolerance) break;
-    if (s.final_step <= options.step_tolerance * (1 + MaxAbs(*x))) break;
+    s.scaled_residual = norm;
+    if (norm <= options.residual_tolerance * residual_scale()) break;
+    const double x_size = step_scale();
+    if (step <= options.step_tolerance * x_size) break;
     // Slow progress at a tiny step is a least-squares floor, not a failure.
-    if (stalled >= 3 && s.final_step <= 1e3 * options.step_tolerance * (1 + MaxAbs(*x))) break;
+    if (stalled >= 3 && step <= 1e3 * options.step_tolerance * x_size) break;
   }
   if (s.reciprocal_condition == 0 && (method != SolverMethod::kNewton || s.iterations == 0)) {
     // Converged at the start (a warm start from a lower order), or a
@@ -349,8 +495,10 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     // Jacobian and the summary still owes its condition (one factorisation,
     // the cost of one more iteration). It is what says how near singular
     // the unregularised problem is (METHOD.md s.5).
-    factorization.Factor(J);
+    rescale();
+    factorization.Factor(J, scaling, scaled);
     s.reciprocal_condition = factorization.reciprocal_condition();
+    s.scaled_reciprocal_condition = factorization.scaled_reciprocal_condition();
   }
   if (options.estimate_condition) {
     if (method == SolverMethod::kNewton && factored) problem.Evaluate(*x, &F, &J);
@@ -358,14 +506,14 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     const auto& sv = svd.singularValues();
     s.condition_estimate = sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : INFINITY;
   }
-  if (norm > options.residual_tolerance && norm > options.acceptable_residual)
+  s.scaled_residual = norm;
+  const double relative_to = residual_scale();
+  if (norm > options.residual_tolerance * relative_to && norm > options.acceptable_residual * relative_to)
     return finish(SolverStatus::kNoConvergence,
-                  "stalled at max|F| = " + std::to_string(norm) +
-                      ": a stationary point of |F|^2 that is not a solution");
+                  "stalled at " + residual_text() + ": a stationary point of |F|^2 that is not a solution");
   if (s.iterations > options.max_iterations) {
     s.iterations = options.max_iterations;
-    return finish(SolverStatus::kNoConvergence,
-                  "iteration limit reached with max|F| = " + std::to_string(norm));
+    return finish(SolverStatus::kNoConvergence, "iteration limit reached with " + residual_text());
   }
   return finish(SolverStatus::kConverged, "");
 }

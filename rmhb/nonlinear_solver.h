@@ -13,6 +13,32 @@
 //  - Tikhonov: (J'J + mu I) dx = -J'F with mu tied to |F| so that the
 //    regularisation vanishes at the solution and convergence stays fast.
 // A solve never throws because it did not converge: that is a status.
+//
+// Scaling (SolverOptions::scaling; kNone by default for now, see below).
+// With kEquilibrate every method works
+// on the equilibrated system J_s = D_r J D_c (rmhb/equilibration.h: Ruiz,
+// power-of-two factors), recomputed whenever the Jacobian is refactorised:
+// Newton solves J_s y = -D_r F and steps dx = D_c y; Gauss-Newton's QR,
+// Levenberg-Marquardt and Tikhonov do the same with J_s. For a square system
+// the Newton step is unchanged (up to round-off); for an overdetermined
+// consistent one the row weights do not move the solution, only the path.
+// What changes is what the tolerances mean: they are tested on the scaled
+// residual max|D_r F| and the scaled step max|D_c^-1 dx| against
+// max|D_c^-1 x|, quantities that do not depend on the units the model is
+// written in. A MEMS resonator in SI units (metres ~1e-6, newtons ~1e-9)
+// then converges to the same relative accuracy as its nondimensional form,
+// where the absolute max|F| <= 1e-15 was met at a relative error of 1e-9.
+// Deuflhard's monotonicity test stays in the model's units (see the .cc).
+// Overdetermined systems keep their row weights (only D_c enters the QR and
+// the regularised normal equations): a truncated conservative harmonic
+// balance is consistent only in the limit, and row weights would move its
+// least-squares solution. kNone is the old behaviour (D_r = D_c = I):
+// absolute tests on max|F| and on the step. It is still the default: with
+// kEquilibrate the whole suite passes but for one case, Newton on the
+// pendulum with the paper's scheme-2 conditions at N = 10 (a singular
+// square J), which stops at max|F| 4e-10 ("no step reduces the residual")
+// where the unscaled Newton converged. Until that is understood,
+// equilibration is asked for explicitly (--scaling equilibrate).
 
 #include <string>
 #include <vector>
@@ -37,18 +63,36 @@ const char* ToString(SolverMethod method);
 // "auto", "newton", "lm", "tikhonov"; throws std::invalid_argument otherwise.
 SolverMethod ParseSolverMethod(const std::string& name);
 
+enum class Scaling { kNone, kEquilibrate };
+const char* ToString(Scaling scaling);
+// "none", "equilibrate"; throws std::invalid_argument otherwise.
+Scaling ParseScaling(const std::string& name);
+
 struct SolverOptions {
   // kAuto: Newton (Gauss-Newton if overdetermined); on failure, Levenberg-
   // Marquardt from the same starting point.
   SolverMethod method = SolverMethod::kAuto;
   int max_iterations = 100;
-  // Converged when max|F| <= residual_tolerance, or when the step is below
-  // step_tolerance * (1 + max|x|) (round-off floor of an inconsistent
-  // least-squares problem).
+  // Equilibrate rows and columns (see the top of this file), or not.
+  Scaling scaling = Scaling::kNone;
+  // kEquilibrate: converged when max|D_r F| <= residual_tolerance * X, or
+  // when the scaled step max|D_c^-1 dx| <= step_tolerance * X (round-off
+  // floor of an inconsistent least-squares problem), with X = max|D_c^-1 x|
+  // (or of the initial guess, if larger; 1 if both are 0). J cannot tell
+  // the units of F from those of x: a change x -> a x, F -> b F scales J by
+  // b/a, which Ruiz splits evenly between D_r and D_c, so that max|D_r F|,
+  // max|D_c^-1 dx| and X all scale by sqrt(a b) and the tests are unit
+  // invariant only as ratios. After equilibration the entries of D_r J D_c
+  // are O(1), so residual_tolerance is a relative residual,
+  // |J_s||y| against |J_s y - b|, and bounds the relative error of the
+  // solution by about residual_tolerance / rcond(J_s).
+  // kNone: max|F| <= residual_tolerance (absolute), step below
+  // step_tolerance * (1 + max|x|): the old behaviour.
   double residual_tolerance = 1e-15;
   double step_tolerance = 1e-14;
-  // A step-size stop with max|F| above this is a stationary point of |F|^2
-  // that is not a solution (or a hopelessly truncated one): not converged.
+  // A step-size stop with max|D_r F| above this (times X, as above) is a
+  // stationary point of |F|^2 that is not a solution (or a hopelessly
+  // truncated one): not converged.
   double acceptable_residual = 1e-6;
   double initial_lambda = 1e-4;
   double lambda_factor = 10.0;
@@ -82,8 +126,11 @@ struct SolverSummary {
   std::string message;
   int iterations = 0;
   int evaluations = 0;
-  double initial_residual = 0;  // max|F|
+  double initial_residual = 0;  // max|F|, unscaled, in the model's units
   double final_residual = 0;
+  // max|D_r F| at the end: what residual_tolerance was tested on (equal to
+  // final_residual with Scaling::kNone).
+  double scaled_residual = 0;
   double final_step = 0;
   double condition_estimate = 0;  // 0 when not estimated
   // Cheap reciprocal condition of the last factorised Newton Jacobian, free
@@ -93,7 +140,20 @@ struct SolverSummary {
   // regularised methods factorise their final J once for it. 0 when not
   // computed (the solve failed before a Jacobian). Near 1e-16 the last digits of the
   // solution are not to be trusted whatever the residual says.
+  // With equilibration this stays the estimate for the UNSCALED J, from the
+  // one factorisation of J_s = D_r J D_c: when square, Hager/Higham's 1-norm
+  // estimator run on J^-1 = D_c J_s^-1 D_r (a few O(n^2) solves with the
+  // scaled LU) over |J|_1; when overdetermined, min/max |R_ii / c_i| with
+  // R from the QR of J_s, i.e. the diagonal ratio of R D_c^-1, the R factor
+  // of the row-weighted D_r J (the row weights are not undone: that would
+  // take a second QR).
   double reciprocal_condition = 0;
+  // The same estimate for the scaled J_s = D_r J D_c that the solver
+  // factorised (Eigen's LU rcond, or min/max |R_ii|): how much of the
+  // ill-conditioning was units, not the problem. Equal to
+  // reciprocal_condition with Scaling::kNone.
+  double scaled_reciprocal_condition = 0;
+  Scaling scaling = Scaling::kNone;
   double seconds = 0;
   std::vector<double> residual_history;
   int num_unknowns = 0;

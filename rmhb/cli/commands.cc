@@ -217,6 +217,11 @@ int RunSolve(const SolveArgs& a) {
   // null when not computed (the solve failed before a Jacobian was factorised).
   out["reciprocal_condition"] =
       summary.solver.reciprocal_condition > 0 ? Number(summary.solver.reciprocal_condition) : json(nullptr);
+  out["scaled_reciprocal_condition"] = summary.solver.scaled_reciprocal_condition > 0
+                                           ? Number(summary.solver.scaled_reciprocal_condition)
+                                           : json(nullptr);
+  out["scaling"] = ToString(summary.solver.scaling);
+  out["scaled_residual"] = Number(summary.solver.scaled_residual);
   out["samples"] = summary.samples.size() == 1 ? json(summary.samples[0]) : json(summary.samples);
   out["alias_free_samples"] = summary.alias_free_samples.size() == 1 ? json(summary.alias_free_samples[0]) : json(summary.alias_free_samples);
   out["sampling"] = summary.sampling;
@@ -317,8 +322,10 @@ int RunSolve(const SolveArgs& a) {
         std::printf("), estimated truncation error %.3e\n", summary.truncation_estimate);
       }
       if (summary.solver.reciprocal_condition > 0)
-        std::printf("condition    1/cond(J) ~ %.2e (last factorised Jacobian)\n",
-                    summary.solver.reciprocal_condition);
+        std::printf("condition    1/cond(J) ~ %.2e (last factorised Jacobian)", summary.solver.reciprocal_condition);
+      if (summary.solver.reciprocal_condition > 0 && summary.solver.scaling == Scaling::kEquilibrate)
+        std::printf(", equilibrated D_r J D_c ~ %.2e", summary.solver.scaled_reciprocal_condition);
+      if (summary.solver.reciprocal_condition > 0) std::printf("\n");
       if (converged) {
         for (double w : sol.frequencies())
           std::printf("frequency    %.17g  (period %.17g)\n", w, 2 * M_PI / w);

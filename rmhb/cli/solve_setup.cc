@@ -121,11 +121,16 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
                   "newton, lm (Levenberg-Marquardt), tikhonov, or auto (Newton when square, "
                   "L-M otherwise)")
       ->check(CLI::IsMember({"auto", "newton", "lm", "tikhonov"}));
+  app->add_option("--scaling", a->scaling,
+                  "none (default: absolute tests on max|F|) or equilibrate (Ruiz row and column "
+                  "equilibration, unit-invariant convergence tests: for models in engineering units)")
+      ->check(CLI::IsMember({"equilibrate", "none"}));
   app->add_option("--max-iterations", a->max_iterations, "Nonlinear solver iteration limit (default 100)")
       ->check(CLI::Range(1, 100000));
   app->add_flag("--allow-aliasing", a->allow_aliasing, "Accept M below the alias-free bound");
   app->add_option("--residual-tol", a->residual_tol,
-                  "Converged when max|F| <= this (default 1e-15; finite and > 0)");
+                  "Converged when max|F| <= this (default 1e-15; finite and > 0); with "
+                  "--scaling equilibrate on the scaled residual, relative to the scaled unknowns");
   app->add_option("--tol", a->tol,
                   "Choose the order automatically: from --order (or the model's default), "
                   "raise it warm-started until two successive orders agree to TOL (relative "
@@ -170,6 +175,7 @@ PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, d
   options.max_order = std::max(a.max_order, options.order);
   options.solver.method = ParseSolverMethod(a.solver);
   options.solver.max_iterations = a.max_iterations;
+  options.solver.scaling = ParseScaling(a.scaling);
   options.solver.residual_tolerance = a.residual_tol;
   options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;
   options.quasi_periodic_sampling =

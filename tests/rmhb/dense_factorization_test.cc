@@ -29,6 +29,17 @@ TEST(DenseLu, SolvesToTheExactSolution) {
   }
 }
 
+TEST(DenseLu, TransposedSolveAndMovedMatrixGiveTheExactSolution) {
+  const int n = 120;
+  const Eigen::MatrixXd A = WellConditioned(n, n, 5);
+  const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, 2.0, -1.0);
+  DenseLu lu;
+  lu.compute(Eigen::MatrixXd(A));  // factorised in the moved storage
+  EXPECT_LT((lu.solve_transposed(A.transpose() * exact) - exact).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((lu.solve(A * exact) - exact).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_THROW(lu.solve_transposed(Eigen::VectorXd::Ones(n + 1)), std::invalid_argument);
+}
+
 // dgecon estimates 1/(|A|_1 |A^-1|_1); Hager's estimator is exact or close
 // on such matrices, never above the truth.
 TEST(DenseLu, ConditionEstimateMatchesTheExplicitInverse) {

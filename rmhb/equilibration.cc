@@ -1,0 +1,54 @@
+#include "rmhb/equilibration.h"
+
+#include <cmath>
+
+namespace rmhb {
+namespace {
+
+// The power of two nearest 1/sqrt(m): m * factor^2 lands in [1/2, 2).
+double InverseSqrtPowerOfTwo(double m) {
+  if (!(m > 0) || !std::isfinite(m)) return 1.0;
+  int exponent = 0;
+  std::frexp(m, &exponent);  // m = f 2^exponent, f in [1/2, 1)
+  // m in [2^(e-1), 2^e): the factor 2^-floor(e/2) puts m factor^2 in [1/2, 2).
+  return std::ldexp(1.0, -static_cast<int>(std::floor(exponent / 2.0)));
+}
+
+}  // namespace
+
+Equilibration IdentityEquilibration(int rows, int columns) {
+  return {Eigen::VectorXd::Ones(rows), Eigen::VectorXd::Ones(columns), 0};
+}
+
+Equilibration Equilibrate(const Eigen::MatrixXd& J, int max_sweeps) {
+  const Eigen::Index m = J.rows(), n = J.cols();
+  Equilibration e = IdentityEquilibration(static_cast<int>(m), static_cast<int>(n));
+  Eigen::VectorXd row_max(m), column_max(n);
+  for (e.sweeps = 0; e.sweeps < max_sweeps;) {
+    row_max.setZero();
+    // Column-major order: one pass over J for both norms.
+    for (Eigen::Index j = 0; j < n; ++j) {
+      double column = 0;
+      for (Eigen::Index i = 0; i < m; ++i) {
+        const double a = std::abs(J(i, j)) * e.row(i) * e.column(j);
+        column = std::max(column, a);
+        row_max(i) = std::max(row_max(i), a);
+      }
+      column_max(j) = column;
+    }
+    bool changed = false;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const double f = InverseSqrtPowerOfTwo(row_max(i));
+      if (f != 1.0) e.row(i) *= f, changed = true;
+    }
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double f = InverseSqrtPowerOfTwo(column_max(j));
+      if (f != 1.0) e.column(j) *= f, changed = true;
+    }
+    if (!changed) break;
+    ++e.sweeps;
+  }
+  return e;
+}
+
+}  // namespace rmhb
