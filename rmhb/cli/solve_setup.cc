@@ -122,8 +122,9 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
                   "L-M otherwise)")
       ->check(CLI::IsMember({"auto", "newton", "lm", "tikhonov"}));
   app->add_option("--scaling", a->scaling,
-                  "none (default: absolute tests on max|F|) or equilibrate (Ruiz row and column "
-                  "equilibration, unit-invariant convergence tests: for models in engineering units)")
+                  "equilibrate (default: Ruiz row and column equilibration, unit-invariant convergence "
+                  "tests, so a model in SI units converges like its nondimensional form) or none "
+                  "(absolute tests on max|F| and the step)")
       ->check(CLI::IsMember({"equilibrate", "none"}));
   app->add_option("--max-iterations", a->max_iterations, "Nonlinear solver iteration limit (default 100)")
       ->check(CLI::Range(1, 100000));

@@ -31,7 +31,7 @@ struct SolveSettings {
   double residual_tol = 1e-15;   // max|F| at convergence
   std::string method = "rhb";
   std::string solver = "auto";
-  std::string scaling = "none";  // SolverOptions::scaling
+  std::string scaling = "equilibrate";  // SolverOptions::scaling
   int max_iterations = 100;
   bool allow_aliasing = false;
   std::string frequencies;  // "w1,w2"; "?w" marks an unknown with guess w

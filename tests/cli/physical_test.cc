@@ -32,7 +32,7 @@ TEST(PhysicalCli, PhysicalSolvesPassAndSayWhy) {
 
 // u^2 + v^2 = 1 solved by Tikhonov at beta = 0.99: the other root of the sqrt.
 TEST(PhysicalCli, WrongRootIsExitFive) {
-  const std::string args = "solve relativistic --set beta=0.99 --order 64 --solver tikhonov";
+  const std::string args = "solve relativistic --set beta=0.99 --order 64 --solver tikhonov --scaling none";
   const CliRun run = Cli(args);
   EXPECT_EQ(run.code, kExitNonPhysical) << run.out;
   EXPECT_NE(run.out.find("status       non_physical"), std::string::npos) << run.out;
@@ -60,12 +60,12 @@ TEST(PhysicalCli, AliasedHdhbIsExitFive) {
 // depends on the LU's last bits (at N = 25 LAPACK's stalls, Eigen's
 // collapsed): two orders, every converged cell non-physical.
 TEST(PhysicalCli, ConvergenceMarksTheScheme3Collapse) {
-  const CliRun run = Cli("convergence pendulum --methods rhb --conditions scheme3 --solver newton --orders 10,20");
+  const CliRun run = Cli("convergence pendulum --methods rhb --conditions scheme3 --solver newton --scaling none --orders 10,20");
   EXPECT_EQ(run.code, kExitNonPhysical) << run.out;
   EXPECT_NE(run.out.find("!"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("unknown frequency w1 converged to"), std::string::npos) << run.out;
   const nlohmann::json j =
-      Json("convergence pendulum --methods rhb --conditions model,scheme3 --solver newton --orders 10,20 --json");
+      Json("convergence pendulum --methods rhb --conditions model,scheme3 --solver newton --scaling none --orders 10,20 --json");
   bool saw_physical = false, saw_collapse = false;
   for (const auto& column : j["columns"])
     for (const auto& cell : column["rows"]) {

@@ -39,7 +39,7 @@ double MappedCoefficientError(const json& si, const json& nondimensional) {
 TEST(CliScaling, SiUnitsGiveTheNondimensionalSolutionToRoundOff) {
   const std::string order = " --order 30 --json";
   const json reference = Json("solve examples/models/duffing.yaml" + order);
-  const json si = Json("solve examples/models/mems-duffing.yaml --scaling equilibrate" + order);
+  const json si = Json("solve examples/models/mems-duffing.yaml" + order);  // default: equilibrate
   ASSERT_EQ(reference["status"], "converged") << reference.dump();
   ASSERT_EQ(si["status"], "converged") << si.dump();
   EXPECT_EQ(si["scaling"], "equilibrate");
@@ -51,7 +51,7 @@ TEST(CliScaling, SiUnitsGiveTheNondimensionalSolutionToRoundOff) {
             10 * si["reciprocal_condition"].get<double>());
   // The old absolute test max|F| <= 1e-15 is met at once by forces of 1e-7 N:
   // it stops at a relative accuracy of ~1e-9.
-  const json none = Json("solve examples/models/mems-duffing.yaml" + order);  // default: none
+  const json none = Json("solve examples/models/mems-duffing.yaml --scaling none" + order);
   ASSERT_EQ(none["status"], "converged") << none.dump();
   EXPECT_EQ(none["scaling"], "none");
   EXPECT_GT(MappedCoefficientError(none, reference), 1e-10);

@@ -225,7 +225,7 @@ TEST(Equilibration, ScalingNamesParse) {
   EXPECT_EQ(ParseScaling("none"), Scaling::kNone);
   EXPECT_EQ(ParseScaling("equilibrate"), Scaling::kEquilibrate);
   EXPECT_STREQ(ToString(Scaling::kEquilibrate), "equilibrate");
-  EXPECT_EQ(SolverOptions().scaling, Scaling::kNone);  // opt-in for now (see the header)
+  EXPECT_EQ(SolverOptions().scaling, Scaling::kEquilibrate);
   EXPECT_THROW(ParseScaling("ruiz"), std::invalid_argument);
 }
 
