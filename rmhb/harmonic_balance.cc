@@ -95,6 +95,21 @@ void CheckPhysical(const HarmonicBalanceProblem& problem, const HarmonicBalanceO
       return;
     }
   }
+  // An equilibrium (every harmonic but the mean zero) solves the equations of
+  // an autonomous problem at ANY frequency: the unknown frequency is then
+  // undetermined and the result no oscillation (Newton on the pendulum's
+  // scheme 3, which pins no amplitude, can land there).
+  if (problem.num_unknown_frequencies() > 0) {
+    const Eigen::MatrixXd& c = summary->solution->coefficients();
+    const double scale = std::max(1.0, c.cwiseAbs().maxCoeff());
+    if (c.cols() > 1 && c.rightCols(c.cols() - 1).cwiseAbs().maxCoeff() <= 1e-10 * scale) {
+      summary->physical = false;
+      summary->non_physical =
+          "every harmonic but the mean is zero (below 1e-10): an equilibrium, not an oscillation; "
+          "the unknown frequency is undetermined";
+      return;
+    }
+  }
   // Without auxiliaries every variable is a state: nothing to compare.
   const std::vector<Variable>& variables = problem.system.variables();
   if (!problem.definitions ||

@@ -82,7 +82,9 @@ struct HarmonicBalanceOptions {
   SolverOptions solver;
   // After a converged solve: is it an oscillation of the original equations?
   // An unknown base frequency at or below min_frequency_ratio times its
-  // guess (w = 0 is a constant, not an oscillation) and, when the problem
+  // guess (w = 0 is a constant, not an oscillation), an equilibrium found
+  // with an unknown frequency (every harmonic but the mean below 1e-10 of
+  // the largest coefficient: w is undetermined) and, when the problem
   // has definitions, auxiliaries that disagree with them (a wrong root of
   // the recast, aliasing) make it non-physical.
   bool check_physical = true;

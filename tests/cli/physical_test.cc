@@ -76,6 +76,14 @@ TEST(PhysicalCli, ConvergenceMarksTheScheme3Collapse) {
   EXPECT_TRUE(saw_collapse);
 }
 
+// With equilibration (the default) Newton on scheme 3 at N = 25 lands on the
+// equilibrium theta = 0 instead: any frequency solves it.
+TEST(PhysicalCli, ConvergenceMarksTheScheme3Equilibrium) {
+  const CliRun run = Cli("convergence pendulum --methods rhb --conditions scheme3 --solver newton --orders 25");
+  EXPECT_EQ(run.code, kExitNonPhysical) << run.out;
+  EXPECT_NE(run.out.find("an equilibrium, not an oscillation"), std::string::npos) << run.out;
+}
+
 TEST(PhysicalCli, ContinuationAndAnalyzeReportTheCheck) {
   const nlohmann::json branch = Json("solve relativistic --order 30 --natural --continue beta=0.5:0.7 --steps 4 --json");
   ASSERT_FALSE(branch["branch"].empty());

@@ -144,6 +144,23 @@ TEST(DefinitionCheck, NonPositiveFrequencyIsFlagged) {
   EXPECT_NE(s.non_physical.find("unknown frequency w1"), std::string::npos) << s.non_physical;
 }
 
+// x = 0 solves Van der Pol at every frequency: from a zero start the solve
+// "converges" at once, and the unknown frequency means nothing.
+TEST(DefinitionCheck, EquilibriumWithAnUnknownFrequencyIsFlagged) {
+  examples::ExampleSetup e = examples::BuildExample("vanderpol");
+  const HarmonicSolution zero(e.guess.basis(), e.guess.frequencies(),
+                              Eigen::MatrixXd::Zero(e.guess.coefficients().rows(), e.guess.coefficients().cols()),
+                              e.problem.system.variables());
+  HarmonicBalanceSummary s = Solve(e.problem, zero, e.guess.basis().order(), SolverMethod::kNewton);
+  ASSERT_TRUE(s.converged()) << s.FullReport();
+  EXPECT_FALSE(s.physical);
+  EXPECT_NE(s.non_physical.find("an equilibrium"), std::string::npos) << s.non_physical;
+  // The limit cycle from the example's own guess is an oscillation.
+  HarmonicBalanceSummary cycle = Solve(e.problem, e.guess, e.guess.basis().order());
+  ASSERT_TRUE(cycle.converged()) << cycle.FullReport();
+  EXPECT_TRUE(cycle.physical) << cycle.non_physical;
+}
+
 TEST(DefinitionCheck, TimeDerivativeMatchesTheSolutionsDerivative) {
   examples::ExampleSetup e = examples::BuildExample("pendulum");
   const HarmonicSolution d = TimeDerivative(e.guess, 1);
