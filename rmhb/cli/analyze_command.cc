@@ -102,17 +102,12 @@ int RunAnalyze(const AnalyzeArgs& a) {
     record.integrator.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf
                                             : integrators::IntegratorOptions::Method::kAdams;
     auto t0 = Clock::now();
-    const frequency_id::Signal signal =
-        source.original_dae
-            ? examples::RecordTrajectory(source.original_dae(problem.frequencies), source.initial_state, record,
-                                         source.state_names)
-            : examples::RecordTrajectory(source.original(problem.frequencies), source.initial_state, record,
-                                         source.state_names);
+    const frequency_id::Signal signal = RecordOriginal(source, problem.frequencies, source.initial_state, record);
     const double record_seconds = Since(t0);
     char text[512];
     std::snprintf(text, sizeof text, "%-10s %9.1f ms  %s rtol %.0e: %d samples, t in [%g, %g], dt %.4g",
                   "trajectory", record_seconds * 1e3,
-                  source.original_dae ? "IDA BDF" : source.stiff ? "CVODE BDF" : "CVODE Adams",
+                  OriginalIntegrator(source),
                   record.integrator.relative_tolerance, signal.num_samples(), record.transient,
                   record.t_end, record.dt);
     lines.push_back(text);
@@ -238,11 +233,7 @@ int RunAnalyze(const AnalyzeArgs& a) {
     const HarmonicSolution& sol = *summary->solution;
     const double slowest = *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
     const double t_end = a.validate_periods * 2 * M_PI / slowest;
-    auto claimed = [&](double t) { return source.state(sol, t); };
-    const integrators::ValidationReport v =
-        source.original_dae
-            ? integrators::ValidateDaeTrajectory(source.original_dae(sol.frequencies()), claimed, t_end)
-            : integrators::ValidateTrajectory(source.original(sol.frequencies()), claimed, t_end, source.stiff);
+    const integrators::ValidationReport v = ValidateOriginal(source, sol, t_end);
     stages["validate"] = {{"seconds", v.seconds}, {"status", v.ok ? "ok" : "failed"},
                           {"max_error", Number(v.max_error)}, {"t_end", t_end},
                           {"periods", a.validate_periods}, {"integrator", v.integrator}, {"message", v.message}};

@@ -263,13 +263,7 @@ int RunSolve(const SolveArgs& a) {
     if (!source.original && !source.original_dae)
       throw std::invalid_argument("cannot validate: " + source.original_error);
     const double period = 2 * M_PI / *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
-    auto claimed = [&](double t) { return source.state(sol, t); };
-    const integrators::ValidationReport v =
-        source.original_dae
-            ? integrators::ValidateDaeTrajectory(source.original_dae(sol.frequencies()), claimed,
-                                                 a.validate_periods * period)
-            : integrators::ValidateTrajectory(source.original(sol.frequencies()), claimed,
-                                              a.validate_periods * period, source.stiff);
+    const integrators::ValidationReport v = ValidateOriginal(source, sol, a.validate_periods * period);
     validation = {{"status", v.ok ? "ok" : "failed"}, {"max_error", Number(v.max_error)},
                   {"periods", a.validate_periods}, {"t_end", a.validate_periods * period},
                   {"seconds", v.seconds}, {"integrator", v.integrator}, {"message", v.message}};

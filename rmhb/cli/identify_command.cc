@@ -48,12 +48,9 @@ frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known,
   // A conservative motion's torus is the one its initial state fixes.
   const Eigen::VectorXd& y0 = source.initial_state;
   const auto start = std::chrono::steady_clock::now();
-  frequency_id::Signal signal =
-      source.original_dae
-          ? examples::RecordTrajectory(source.original_dae(w), y0, record, source.state_names)
-          : examples::RecordTrajectory(source.original(w), y0, record, source.state_names);
+  frequency_id::Signal signal = RecordOriginal(source, w, y0, record);
   *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  *integrator = source.original_dae ? "IDA" : source.stiff ? "CVODE BDF" : "CVODE Adams";
+  *integrator = OriginalIntegrator(source);
   return signal;
 }
 

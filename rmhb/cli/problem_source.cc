@@ -119,4 +119,31 @@ ProblemSource LoadProblem(const std::string& model, const std::map<std::string, 
   return LooksLikeFile(model) ? FromFile(model, overrides) : FromExample(model, overrides);
 }
 
+namespace {
+void RequireOriginal(const ProblemSource& source) {
+  if (!source.original && !source.original_dae)
+    throw std::invalid_argument("cannot integrate the model: " + source.original_error);
+}
+}  // namespace
+
+const char* OriginalIntegrator(const ProblemSource& source) {
+  return source.original_dae ? "IDA BDF" : source.stiff ? "CVODE BDF" : "CVODE Adams";
+}
+
+frequency_id::Signal RecordOriginal(const ProblemSource& source, const std::vector<double>& w,
+                                    const Eigen::VectorXd& y0, const examples::RecordOptions& record) {
+  RequireOriginal(source);
+  return source.original_dae ? examples::RecordTrajectory(source.original_dae(w), y0, record, source.state_names)
+                             : examples::RecordTrajectory(source.original(w), y0, record, source.state_names);
+}
+
+integrators::ValidationReport ValidateOriginal(const ProblemSource& source, const HarmonicSolution& solution,
+                                               double t_end) {
+  RequireOriginal(source);
+  auto claimed = [&](double t) { return source.state(solution, t); };
+  const std::vector<double>& w = solution.frequencies();
+  return source.original_dae ? integrators::ValidateDaeTrajectory(source.original_dae(w), claimed, t_end)
+                             : integrators::ValidateTrajectory(source.original(w), claimed, t_end, source.stiff);
+}
+
 }  // namespace rmhb::cli

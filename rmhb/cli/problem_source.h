@@ -17,6 +17,7 @@
 #include "examples/example_system.h"
 #include "examples/identified_guess.h"
 #include "integrators/ode_system.h"
+#include "integrators/trajectory_validation.h"
 #include "rmhb/collocation_residual.h"
 #include "rmhb/harmonic_solution.h"
 #include "rmhb/model/model_definition.h"
@@ -68,6 +69,18 @@ struct ProblemSource {
 // a model file; anything else an example name. Throws std::invalid_argument
 // (unknown example/parameter) or model::ModelError (file:line:column).
 ProblemSource LoadProblem(const std::string& model, const std::map<std::string, double>& overrides);
+
+// The source's original equations integrated by what they need: IDA for a
+// DAE, else CVODE (BDF when the source is stiff). One place for every command
+// that integrates. Throw std::invalid_argument with original_error when the
+// source has no original equations.
+const char* OriginalIntegrator(const ProblemSource& source);  // "IDA BDF", "CVODE BDF", "CVODE Adams"
+frequency_id::Signal RecordOriginal(const ProblemSource& source, const std::vector<double>& w,
+                                    const Eigen::VectorXd& y0, const examples::RecordOptions& record);
+// The solution's state against a trajectory of the original equations from
+// it at t = 0, over [0, t_end] (integrators/trajectory_validation.h).
+integrators::ValidationReport ValidateOriginal(const ProblemSource& source, const HarmonicSolution& solution,
+                                               double t_end);
 
 }  // namespace rmhb::cli
 
