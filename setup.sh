@@ -9,7 +9,7 @@ cd "$(dirname "$0")"
 
 packages=(build-essential cmake pkg-config libeigen3-dev libfftw3-dev libnlopt-cxx-dev
           libsundials-dev libginac-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
-          libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox libopenblas-dev)
+          libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox libopenblas-dev ccache)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -22,8 +22,12 @@ if ((${#missing[@]})); then
 fi
 
 build_dir=${BUILD_DIR:-build}
+# ccache: a rebuild (a re-run, another build directory or checkout) compiles
+# only what changed.
+launcher=()
+command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 # shellcheck disable=SC2086
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release ${CMAKE_ARGS:-}
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" ${CMAKE_ARGS:-}
 cmake --build "$build_dir" -j "$(nproc)"
 
 if [ "${1:-}" != "--no-demo" ]; then
