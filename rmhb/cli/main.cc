@@ -15,8 +15,35 @@
 #include "rmhb/cli/identify_command.h"
 #include "rmhb/cli/montecarlo_command.h"
 #include "rmhb/cli/simulate_command.h"
+#include "rmhb/cli/sweep_command.h"
 #include "rmhb/cli/convergence_command.h"
 #include "rmhb/model/model_error.h"
+#include "rmhb/sweep/mpi_lines.h"
+
+namespace {
+
+// The sweep runs on every MPI rank: an error on one stops them all (a rank
+// that only returned would leave the others waiting for it forever).
+int RunSweepCommand(const rmhb::cli::SweepArgs& sweep, int argc, char** argv) {
+  using namespace rmhb::cli;
+  rmhb::sweep::MpiSession mpi(&argc, &argv);
+  int code = kExitInternal;
+  try {
+    return RunSweep(sweep, mpi.rank(), mpi.size());
+  } catch (const rmhb::model::ModelError& e) {
+    if (mpi.rank() == 0) std::fprintf(stderr, "rmhb: error: %s\n", e.what());
+    code = kExitBadInput;
+  } catch (const std::invalid_argument& e) {
+    if (mpi.rank() == 0) std::fprintf(stderr, "rmhb: error: %s\n", e.what());
+    code = kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rmhb: internal error (rank %d): %s\n", mpi.rank(), e.what());
+  }
+  if (mpi.size() > 1) rmhb::sweep::AbortAll(code);
+  return code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace rmhb::cli;
@@ -80,6 +107,13 @@ int main(int argc, char** argv) {
                  "solve converges to a non-physical solution.");
   AddAnalyzeOptions(analyze_cmd, &analyze);
 
+  SweepArgs sweep;
+  CLI::App* sweep_cmd = app.add_subcommand(
+      "sweep", "Every steady state at every point of a parameter grid (--grid NAME=a:b:n, repeatable):\n"
+               "continuation along the first axis plus random starts, stability, one HDF5 file;\n"
+               "checkpointed and resumable (--resume); over MPI with `mpirun -n R rmhb sweep ...`.");
+  AddSweepOptions(sweep_cmd, &sweep);
+
   CLI::App* list_cmd = app.add_subcommand("list", "List the bundled examples and their parameters.");
   bool list_json = false;
   list_cmd->add_flag("--json", list_json, "Machine-readable output: name, description, equation, parameters");
@@ -97,6 +131,7 @@ int main(int argc, char** argv) {
     app.exit(e);
     return kExitUsage;
   }
+  if (*sweep_cmd) return RunSweepCommand(sweep, argc, argv);
   try {
     if (*solve_cmd) return continuation.range.empty() ? RunSolve(solve) : RunContinuation(solve, continuation);
     if (*list_cmd) return RunList(list_json);

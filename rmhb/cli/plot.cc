@@ -129,12 +129,12 @@ void CheckPlotRequest(const std::string& file) {
   if (FindGnuplot().empty()) throw std::invalid_argument("gnuplot not found: install gnuplot-nox (--plot " + file + ")");
 }
 
-void WritePlot(const Plot& plot, const std::string& file) {
-  CheckPlotRequest(file);
+namespace {
+
+// Runs gnuplot on the script in `dir` (plot.gp), which writes `file`.
+void RunGnuplot(const TempDir& dir, const std::string& file) {
   const std::string gnuplot = FindGnuplot();
-  TempDir dir;
   const std::string script = dir.path + "/plot.gp", log = dir.path + "/gnuplot.log";
-  std::ofstream(script) << Script(plot, file, dir.path);
 
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -153,6 +153,51 @@ void WritePlot(const Plot& plot, const std::string& file) {
   struct stat st;
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || stat(file.c_str(), &st) != 0 || st.st_size == 0)
     throw std::invalid_argument("gnuplot could not write '" + file + "': " + messages);
+}
+
+
+// The start of a script that draws into `file` (PNG or SVG by extension).
+std::string Terminal(const std::string& file) {
+  return EndsWith(file, ".svg") ? "set terminal svg size 900,700 dynamic\n"
+                                : "set terminal pngcairo size 900,700 noenhanced\n";
+}
+
+}  // namespace
+
+void WritePlot(const Plot& plot, const std::string& file) {
+  CheckPlotRequest(file);
+  TempDir dir;
+  std::ofstream(dir.path + "/plot.gp") << Script(plot, file, dir.path);
+  RunGnuplot(dir, file);
+}
+
+void WriteHeatMap(const HeatMap& map, const std::string& file) {
+  CheckPlotRequest(file);
+  if (map.z.size() != map.x.size() * map.y.size() || map.x.empty() || map.y.empty())
+    throw std::invalid_argument("WriteHeatMap: z needs one value per (x, y)");
+  TempDir dir;
+  {
+    std::ofstream data(dir.path + "/map.dat");
+    data.precision(17);
+    for (std::size_t j = 0; j < map.y.size(); ++j) {
+      for (std::size_t i = 0; i < map.x.size(); ++i) {
+        const double z = map.z[i + map.x.size() * j];
+        data << map.x[i] << ' ' << map.y[j] << ' ';
+        if (std::isfinite(z)) data << z << '\n';
+        else data << "NaN\n";
+      }
+      data << '\n';
+    }
+  }
+  std::ofstream script(dir.path + "/plot.gp");
+  script << Terminal(file) << "set output " << Quote(file) << "\n"
+         << "set title " << Quote(map.title) << "\nset xlabel " << Quote(map.x_label) << "\nset ylabel "
+         << Quote(map.y_label) << "\nset cblabel " << Quote(map.z_label) << "\n"
+         << "set view map\nset datafile missing 'NaN'\nset palette rgbformulae 33,13,10\n"
+         << "set xrange [*:*] noextend\nset yrange [*:*] noextend\n"
+         << "plot " << Quote(dir.path + "/map.dat") << " using 1:2:3 with image notitle\nset output\n";
+  script.close();
+  RunGnuplot(dir, file);
 }
 
 }  // namespace rmhb::cli

@@ -45,6 +45,14 @@ void CheckPlotRequest(const std::string& file);
 // its own message).
 void WritePlot(const Plot& plot, const std::string& file);
 
+// A heat map of z over a rectangular grid: z[i + x.size() j] at (x[i], y[j]);
+// non-finite values are left blank. Throws like WritePlot.
+struct HeatMap {
+  std::string title, x_label, y_label, z_label;
+  std::vector<double> x, y, z;
+};
+void WriteHeatMap(const HeatMap& map, const std::string& file);
+
 }  // namespace rmhb::cli
 
 #endif  // RMHB_CLI_PLOT_H_

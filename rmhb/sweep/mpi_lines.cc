@@ -1,0 +1,80 @@
+#include "rmhb/sweep/mpi_lines.h"
+
+#include <mpi.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <thread>
+
+namespace rmhb::sweep {
+namespace {
+
+constexpr int kRequestTag = 1, kLineTag = 2;
+bool active = false;
+
+}  // namespace
+
+MpiSession::MpiSession(int* argc, char*** argv) {
+  MPI_Init(argc, argv);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  active = true;
+}
+
+MpiSession::~MpiSession() {
+  active = false;
+  MPI_Finalize();
+}
+
+bool MpiActive() { return active; }
+
+void ServeLines(const std::vector<long>& lines, int size) {
+  std::size_t next = 0;
+  for (int working = size - 1; working > 0;) {
+    int waiting = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kRequestTag, MPI_COMM_WORLD, &waiting, &status);
+    if (!waiting) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      continue;
+    }
+    int request = 0;
+    MPI_Recv(&request, 1, MPI_INT, status.MPI_SOURCE, kRequestTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    long line = next < lines.size() ? lines[next++] : -1;
+    if (line < 0) --working;
+    MPI_Send(&line, 1, MPI_LONG, status.MPI_SOURCE, kLineTag, MPI_COMM_WORLD);
+  }
+}
+
+LineSource RequestLines() {
+  return [] {
+    int request = 1;
+    long line = -1;
+    MPI_Send(&request, 1, MPI_INT, 0, kRequestTag, MPI_COMM_WORLD);
+    MPI_Recv(&line, 1, MPI_LONG, 0, kLineTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return line;
+  };
+}
+
+long SumToRoot(long value) {
+  long sum = value;
+  if (active) MPI_Reduce(&value, &sum, 1, MPI_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+  return sum;
+}
+
+double MaxToRoot(double value) {
+  double max = value;
+  if (active) MPI_Reduce(&value, &max, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  return max;
+}
+
+void Barrier() {
+  if (active) MPI_Barrier(MPI_COMM_WORLD);
+}
+
+void AbortAll(int exit_code) {
+  if (active) MPI_Abort(MPI_COMM_WORLD, exit_code);
+  std::exit(exit_code);
+}
+
+}  // namespace rmhb::sweep
