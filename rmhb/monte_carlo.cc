@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <sstream>
@@ -179,9 +180,9 @@ std::string MonteCarloSummary::FullReport() const {
   return out.str();
 }
 
-MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
-                                const MonteCarloOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+void CheckCensusProblem(const HarmonicBalanceProblem& problem, const MonteCarloOptions& options) {
   if (std::string why = options.IsValid(); !why.empty())
     throw std::invalid_argument("Monte Carlo: " + why);
   problem.Validate();
@@ -202,116 +203,141 @@ MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
       throw std::invalid_argument(
           "Monte Carlo: the stability of a system with pinned recast auxiliaries (constant "
           "term not balanced) is not decided by Hill's method; not supported");
+  HarmonicBalanceOptions reference = options.solve;
+  reference.order = options.reference_order > 0 ? options.reference_order : std::max(40, 8 * options.solve.order);
+  CheckJacobianSize(problem, options.solve);
+  CheckJacobianSize(problem, reference);
+}
 
+int ThreadCount(const MonteCarloOptions& options, long starts) {
+  const int wanted = options.threads > 0 ? options.threads
+                                         : static_cast<int>(std::thread::hardware_concurrency());
+  return static_cast<int>(std::clamp<long>(wanted, 1, std::max(1L, starts)));
+}
+
+// Runs `work` on `threads` threads; the first exception is rethrown here
+// once all have ended.
+void RunThreads(int threads, const std::function<void()>& work) {
+  std::mutex mutex;
+  std::exception_ptr failure;
+  auto body = [&] {
+    try {
+      work();
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!failure) failure = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) pool.emplace_back(body);
+  for (auto& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+}  // namespace
+
+StartSolves SolveStarts(const HarmonicBalanceProblem& problem, const MonteCarloOptions& options, long first,
+                        long stride) {
+  CheckCensusProblem(problem, options);
+  if (first < 0 || stride < 1) throw std::invalid_argument("SolveStarts: first >= 0 and stride >= 1");
+  const HarmonicBasis basis = HarmonicBasis::Periodic(options.solve.order);
+  const int n = problem.system.num_variables(), C = basis.num_coefficients();
+  const int num_rules = static_cast<int>(options.rules.size());
+  StartSolves solves;
+  solves.outcomes.assign(num_rules, std::vector<StartOutcome>(options.starts));
+  solves.rule_seconds.assign(num_rules, 0);
+  const long mine = first < options.starts ? (options.starts - first + stride - 1) / stride : 0;
+  solves.threads = ThreadCount(options, mine);
+  std::atomic<long> next{0};
+  std::mutex mutex;
+  long done = 0;
+  RunThreads(solves.threads, [&] {
+    std::vector<std::unique_ptr<CollocationResidual>> residuals;
+    for (SamplingRule rule : options.rules) {
+      std::vector<int> alias_free;
+      const int samples = SamplesForRule(problem.system, basis, rule, &alias_free)[0];
+      residuals.push_back(std::make_unique<CollocationResidual>(problem, basis, Sampling::Uniform(samples)));
+    }
+    std::vector<double> seconds(num_rules, 0);
+    for (long j; (j = next.fetch_add(1)) < mine;) {
+      const long i = first + j * stride;
+      const Eigen::MatrixXd guess = RandomStart(options.seed, i, n, C, options.low, options.high);
+      for (int r = 0; r < num_rules; ++r) {
+        const double t0 = ThreadCpuSeconds();
+        Eigen::VectorXd x = residuals[r]->Pack(guess, problem.frequencies);
+        const SolverSummary s = SolveNonlinear(*residuals[r], &x, options.solve.solver);
+        if (s.converged() && x.allFinite()) {
+          StartOutcome found;
+          residuals[r]->Unpack(x, &found.coefficients, &found.frequencies);
+          // An unknown frequency may converge to w <= 0: not a periodic
+          // solution in the problem's sense (and w = 0 not one at all).
+          bool positive = true;
+          for (double w : found.frequencies) positive = positive && w > 0;
+          if (positive) solves.outcomes[r][i] = std::move(found);
+        }
+        seconds[r] += ThreadCpuSeconds() - t0;
+      }
+      if (options.progress) {
+        std::lock_guard<std::mutex> lock(mutex);
+        options.progress(++done, mine);
+      }
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    for (int r = 0; r < num_rules; ++r) solves.rule_seconds[r] += seconds[r];
+  });
+  return solves;
+}
+
+MonteCarloSummary CensusOfStarts(const HarmonicBalanceProblem& problem, const MonteCarloOptions& options,
+                                 const StartSolves& solves) {
+  const auto start = std::chrono::steady_clock::now();
+  CheckCensusProblem(problem, options);
+  const int num_rules = static_cast<int>(options.rules.size());
+  if (static_cast<int>(solves.outcomes.size()) != num_rules || static_cast<int>(solves.rule_seconds.size()) != num_rules)
+    throw std::invalid_argument("CensusOfStarts: one list of outcomes per rule expected");
   MonteCarloSummary summary;
   summary.starts = options.starts;
   summary.order = options.solve.order;
   summary.reference_order =
       options.reference_order > 0 ? options.reference_order : std::max(40, 8 * options.solve.order);
-  HarmonicBalanceOptions reference = options.solve;
-  reference.order = summary.reference_order;
-  CheckJacobianSize(problem, options.solve);
-  CheckJacobianSize(problem, reference);
-  const int wanted = options.threads > 0 ? options.threads
-                                         : static_cast<int>(std::thread::hardware_concurrency());
-  summary.threads = static_cast<int>(std::clamp<long>(wanted, 1, options.starts));
-
+  summary.threads = solves.threads;
   const HarmonicBasis basis = HarmonicBasis::Periodic(options.solve.order);
-  const int n = problem.system.num_variables(), C = basis.num_coefficients();
-  const int num_rules = static_cast<int>(options.rules.size());
-  for (SamplingRule rule : options.rules) {
-    RuleCensus census;
-    census.rule = rule;
-    std::vector<int> alias_free;
-    census.samples = SamplesForRule(problem.system, basis, rule, &alias_free)[0];
-    census.alias_free_samples = alias_free[0];
-    summary.rules.push_back(census);
-  }
-
-  // [rule][start]: the converged solution (empty coefficients if none).
-  struct Found {
-    Eigen::MatrixXd coefficients;
-    std::vector<double> frequencies;  // solved, when unknown
-  };
-  std::vector<std::vector<Found>> solutions(num_rules, std::vector<Found>(options.starts));
   // Coefficients and (unknown) frequencies alike.
-  auto distance = [](const Found& a, const Found& b) {
+  auto distance = [](const StartOutcome& a, const StartOutcome& b) {
     double d = RelativeDistance(a.coefficients, b.coefficients);
     for (size_t i = 0; i < a.frequencies.size(); ++i)
       d = std::max(d, std::abs(a.frequencies[i] - b.frequencies[i]) /
                           std::max(1.0, std::abs(b.frequencies[i])));
     return d;
   };
-  std::vector<double> rule_seconds(num_rules, 0);
-  std::atomic<long> next{0};
-  long done = 0;
-  std::mutex mutex;
-  std::exception_ptr failure;
-  auto worker = [&]() {
-    try {
-      std::vector<std::unique_ptr<CollocationResidual>> residuals;
-      for (const auto& census : summary.rules)
-        residuals.push_back(std::make_unique<CollocationResidual>(
-            problem, basis, Sampling::Uniform(census.samples)));
-      std::vector<double> seconds(num_rules, 0);
-      for (long i; (i = next.fetch_add(1)) < options.starts;) {
-        const Eigen::MatrixXd guess = RandomStart(options.seed, i, n, C, options.low, options.high);
-        for (int r = 0; r < num_rules; ++r) {
-          const double t0 = ThreadCpuSeconds();
-          Eigen::VectorXd x = residuals[r]->Pack(guess, problem.frequencies);
-          const SolverSummary s = SolveNonlinear(*residuals[r], &x, options.solve.solver);
-          if (s.converged() && x.allFinite()) {
-            Found found;
-            residuals[r]->Unpack(x, &found.coefficients, &found.frequencies);
-            // An unknown frequency may converge to w <= 0: not a periodic
-            // solution in the problem's sense (and w = 0 not one at all).
-            bool positive = true;
-            for (double w : found.frequencies) positive = positive && w > 0;
-            if (positive) solutions[r][i] = std::move(found);
-          }
-          seconds[r] += ThreadCpuSeconds() - t0;
-        }
-        if (options.progress) {
-          std::lock_guard<std::mutex> lock(mutex);
-          options.progress(++done, options.starts);
-        }
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      for (int r = 0; r < num_rules; ++r) rule_seconds[r] += seconds[r];
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!failure) failure = std::current_exception();
-      next = options.starts;  // stop the others
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 0; t < summary.threads; ++t) pool.emplace_back(worker);
-  for (auto& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
-
   for (int r = 0; r < num_rules; ++r) {
-    RuleCensus& census = summary.rules[r];
-    census.solve_seconds = rule_seconds[r];
+    RuleCensus census;
+    census.rule = options.rules[r];
+    std::vector<int> alias_free;
+    census.samples = SamplesForRule(problem.system, basis, census.rule, &alias_free)[0];
+    census.alias_free_samples = alias_free[0];
+    census.solve_seconds = solves.rule_seconds[r];
+    const std::vector<StartOutcome>& outcomes = solves.outcomes[r];
+    if (static_cast<long>(outcomes.size()) != options.starts)
+      throw std::invalid_argument("CensusOfStarts: one outcome per start expected");
     // In start order, so the clusters and their representatives depend on the
     // seed only.
     std::vector<long> first;  // representative start of each cluster
     std::vector<long> count;
     for (long i = 0; i < options.starts; ++i) {
-      const Found& x = solutions[r][i];
+      const StartOutcome& x = outcomes[i];
       if (x.coefficients.size() == 0) {
         ++census.failed;
         continue;
       }
       ++census.converged;
       size_t c = 0;
-      while (c < first.size() &&
-             distance(x, solutions[r][first[c]]) >= options.cluster_tolerance)
-        ++c;
+      while (c < first.size() && distance(x, outcomes[first[c]]) >= options.cluster_tolerance) ++c;
       if (c == first.size()) first.push_back(i), count.push_back(0);
       ++count[c];
     }
     for (size_t c = 0; c < first.size(); ++c) {
-      const Found& f = solutions[r][first[c]];
+      const StartOutcome& f = outcomes[first[c]];
       census.clusters.emplace_back(
           HarmonicSolution(basis, f.frequencies, f.coefficients, problem.system.variables()));
       census.clusters.back().count = count[c];
@@ -320,23 +346,21 @@ MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
     // Classification is a solve at the reference order per cluster (HDHB
     // finds dozens): in parallel too.
     std::atomic<size_t> next_cluster{0};
-    auto classify = [&]() {
-      try {
-        for (size_t c; (c = next_cluster.fetch_add(1)) < census.clusters.size();)
-          Classify(problem, options, summary.reference_order, &census.clusters[c]);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!failure) failure = std::current_exception();
-        next_cluster = census.clusters.size();
-      }
-    };
-    pool.clear();
-    for (int t = 0; t < summary.threads; ++t) pool.emplace_back(classify);
-    for (auto& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
+    RunThreads(ThreadCount(options, static_cast<long>(census.clusters.size())), [&] {
+      for (size_t c; (c = next_cluster.fetch_add(1)) < census.clusters.size();)
+        Classify(problem, options, summary.reference_order, &census.clusters[c]);
+    });
     std::stable_sort(census.clusters.begin(), census.clusters.end(),
                      [](const SolutionCluster& a, const SolutionCluster& b) { return a.count > b.count; });
+    summary.rules.push_back(std::move(census));
   }
+  summary.seconds = Seconds(start);
+  return summary;
+}
+
+MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem, const MonteCarloOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  MonteCarloSummary summary = CensusOfStarts(problem, options, SolveStarts(problem, options));
   summary.seconds = Seconds(start);
   return summary;
 }

@@ -117,6 +117,27 @@ struct MonteCarloSummary {
 MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
                                 const MonteCarloOptions& options);
 
+// The census in two steps, for running its starts on several processes
+// (MPI, rmhb/cli/montecarlo_command.cc): each solves its share of the starts,
+// the root gathers every outcome and takes the census. RunMonteCarlo is
+// CensusOfStarts(SolveStarts(...)); the census depends on the outcomes by
+// start index only, so it is the same however the starts were shared out.
+struct StartOutcome {
+  Eigen::MatrixXd coefficients;     // empty: the start did not converge (or w <= 0)
+  std::vector<double> frequencies;  // as solved
+};
+struct StartSolves {
+  std::vector<std::vector<StartOutcome>> outcomes;  // [rule][start], all options.starts
+  std::vector<double> rule_seconds;                 // CPU seconds per rule, this process
+  int threads = 1;
+};
+// Solves starts first, first + stride, ... below options.starts (the others
+// stay empty). Throws like RunMonteCarlo.
+StartSolves SolveStarts(const HarmonicBalanceProblem& problem, const MonteCarloOptions& options,
+                        long first = 0, long stride = 1);
+MonteCarloSummary CensusOfStarts(const HarmonicBalanceProblem& problem, const MonteCarloOptions& options,
+                                 const StartSolves& solves);
+
 // The coefficients of start `index`: a pure function of (seed, index).
 Eigen::MatrixXd RandomStart(std::uint64_t seed, long index, int variables, int coefficients,
                             double low, double high);

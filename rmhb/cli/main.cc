@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <stdexcept>
 
@@ -18,18 +19,19 @@
 #include "rmhb/cli/sweep_command.h"
 #include "rmhb/cli/convergence_command.h"
 #include "rmhb/model/model_error.h"
-#include "rmhb/sweep/mpi_lines.h"
+#include "rmhb/sweep/mpi.h"
 
 namespace {
 
-// The sweep runs on every MPI rank: an error on one stops them all (a rank
-// that only returned would leave the others waiting for it forever).
-int RunSweepCommand(const rmhb::cli::SweepArgs& sweep, int argc, char** argv) {
+// Sweeps and censuses run on every MPI rank (one without mpirun): an error
+// on one stops them all (a rank that only returned would leave the others
+// waiting for it forever).
+int RunOnEveryRank(const std::function<int(int rank, int ranks)>& command, int argc, char** argv) {
   using namespace rmhb::cli;
   rmhb::sweep::MpiSession mpi(&argc, &argv);
   int code = kExitInternal;
   try {
-    return RunSweep(sweep, mpi.rank(), mpi.size());
+    return command(mpi.rank(), mpi.size());
   } catch (const rmhb::model::ModelError& e) {
     if (mpi.rank() == 0) std::fprintf(stderr, "rmhb: error: %s\n", e.what());
     code = kExitBadInput;
@@ -131,13 +133,14 @@ int main(int argc, char** argv) {
     app.exit(e);
     return kExitUsage;
   }
-  if (*sweep_cmd) return RunSweepCommand(sweep, argc, argv);
+  if (*sweep_cmd) return RunOnEveryRank([&](int rank, int ranks) { return RunSweep(sweep, rank, ranks); }, argc, argv);
+  if (*montecarlo_cmd)
+    return RunOnEveryRank([&](int rank, int ranks) { return RunMonteCarlo(montecarlo, rank, ranks); }, argc, argv);
   try {
     if (*solve_cmd) return continuation.range.empty() ? RunSolve(solve) : RunContinuation(solve, continuation);
     if (*list_cmd) return RunList(list_json);
     if (*recast_cmd) return RunRecast(recast);
     if (*identify_cmd) return RunIdentify(identify);
-    if (*montecarlo_cmd) return RunMonteCarlo(montecarlo);
     if (*simulate_cmd) return RunSimulate(simulate);
     if (*convergence_cmd) return RunConvergence(convergence);
     if (*analyze_cmd) return RunAnalyze(analyze);

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -12,6 +13,7 @@
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/solve_setup.h"
 #include "rmhb/monte_carlo.h"
+#include "rmhb/sweep/mpi.h"
 
 namespace rmhb::cli {
 namespace {
@@ -62,6 +64,46 @@ void ShowProgress(long done, long total) {
   if (done == total) std::fprintf(stderr, "\r%*s\r", width + 40, "");
 }
 
+// A start's outcome as numbers for MPI: converged flag, coefficients
+// (row-major), frequencies; the same length for every start.
+void PackOutcome(const StartOutcome& o, int coefficients, int bases, std::vector<double>* out) {
+  const bool converged = o.coefficients.size() > 0;
+  out->push_back(converged);
+  for (int i = 0; i < coefficients; ++i)
+    out->push_back(converged ? o.coefficients(i / o.coefficients.cols(), i % o.coefficients.cols()) : 0.0);
+  for (int b = 0; b < bases; ++b) out->push_back(converged ? o.frequencies[b] : 0.0);
+}
+
+// The census over `ranks` processes: rank r solves starts r, r + ranks, ...;
+// rank 0 gathers every outcome and classifies. The same census as one
+// process (it depends on the outcomes by start index only); other ranks get
+// an empty summary.
+MonteCarloSummary Census(const HarmonicBalanceProblem& problem, const MonteCarloOptions& options, int rank,
+                         int ranks) {
+  if (ranks == 1) return rmhb::RunMonteCarlo(problem, options);
+  const auto begin = std::chrono::steady_clock::now();
+  StartSolves solves = SolveStarts(problem, options, rank, ranks);
+  const int rows = problem.system.num_variables(), cols = HarmonicBasis::Periodic(options.solve.order).num_coefficients();
+  const int bases = static_cast<int>(problem.frequencies.size()), record = 1 + rows * cols + bases;
+  std::vector<double> mine;
+  for (const auto& rule : solves.outcomes)
+    for (long i = rank; i < options.starts; i += ranks) PackOutcome(rule[i], rows * cols, bases, &mine);
+  const std::vector<double> all = sweep::GatherToRoot(mine);
+  for (double& s : solves.rule_seconds) s = sweep::SumToRoot(s);
+  if (rank != 0) return {};
+  const double* p = all.data();
+  for (int r = 0; r < ranks; ++r)
+    for (auto& rule : solves.outcomes)
+      for (long i = r; i < options.starts; i += ranks, p += record) {
+        if (p[0] == 0) continue;
+        rule[i].coefficients = Eigen::Map<const Eigen::Matrix<double, -1, -1, Eigen::RowMajor>>(p + 1, rows, cols);
+        rule[i].frequencies.assign(p + 1 + rows * cols, p + record);
+      }
+  MonteCarloSummary summary = CensusOfStarts(problem, options, solves);
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return summary;
+}
+
 }  // namespace
 
 void AddMonteCarloOptions(CLI::App* app, MonteCarloArgs* a) {
@@ -89,7 +131,7 @@ void AddMonteCarloOptions(CLI::App* app, MonteCarloArgs* a) {
   app->add_flag("--json", a->json, "Machine-readable output");
 }
 
-int RunMonteCarlo(const MonteCarloArgs& a) {
+int RunMonteCarlo(const MonteCarloArgs& a, int rank, int ranks) {
   SolveSettings settings;
   settings.model = a.model;
   settings.set = a.set;
@@ -121,7 +163,7 @@ int RunMonteCarlo(const MonteCarloArgs& a) {
     options.rules.push_back(ParseSamplingRule(item));
     item.clear();
   }
-  if (isatty(STDERR_FILENO)) options.progress = ShowProgress;
+  if (isatty(STDERR_FILENO) && rank == 0) options.progress = ShowProgress;
   if (source.original && !a.no_floquet)
     options.original_check = [&source](const HarmonicSolution& s) {
       integrators::FloquetOptions fo;
@@ -131,7 +173,8 @@ int RunMonteCarlo(const MonteCarloArgs& a) {
           source.original(s.frequencies()), source.state(s, 0.0), 0.0, 2 * M_PI / s.frequencies()[0], fo);
       return OriginalCheck{f.ok, f.stable, f.multipliers, f.closure_error, f.message};
     };
-  const MonteCarloSummary summary = rmhb::RunMonteCarlo(source.problem, options);
+  const MonteCarloSummary summary = Census(source.problem, options, rank, ranks);
+  if (rank != 0) return kExitOk;
 
   bool all_failed = false;
   json methods = json::array();
@@ -158,15 +201,15 @@ int RunMonteCarlo(const MonteCarloArgs& a) {
                 {"range", {range[0], range[1]}}, {"seed", a.seed},
                 {"order", summary.order},  {"reference_order", summary.reference_order},
                 {"match_tolerance", a.match_tolerance},
-                {"threads", summary.threads}, {"seconds", summary.seconds},
+                {"threads", summary.threads}, {"ranks", ranks}, {"seconds", summary.seconds},
                 {"methods", methods}};
     std::cout << out.dump(1) << "\n";
   } else {
     std::printf("%s: %s\n%ld starts, every coefficient uniform in [%g, %g], seed %llu; reference: "
-                "alias-free RHB at order %d; %d threads, %.3f s\n\n%s",
+                "alias-free RHB at order %d; %d threads x %d rank(s), %.3f s\n\n%s",
                 source.name.c_str(), source.equation.c_str(), summary.starts, range[0], range[1],
                 static_cast<unsigned long long>(a.seed), summary.reference_order, summary.threads,
-                summary.seconds, summary.FullReport().c_str());
+                ranks, summary.seconds, summary.FullReport().c_str());
   }
   if (all_failed) {
     std::fprintf(stderr, "rmhb: not converged: a method converged from none of the %ld starts\n",

@@ -35,7 +35,8 @@ struct MonteCarloArgs {
 };
 
 void AddMonteCarloOptions(CLI::App* app, MonteCarloArgs* args);
-int RunMonteCarlo(const MonteCarloArgs& args);
+// Every MPI rank runs it (ranks = 1 without mpirun); rank 0 prints.
+int RunMonteCarlo(const MonteCarloArgs& args, int rank = 0, int ranks = 1);
 
 }  // namespace rmhb::cli
 

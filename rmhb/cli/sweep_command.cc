@@ -15,7 +15,7 @@
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/plot.h"
-#include "rmhb/sweep/mpi_lines.h"
+#include "rmhb/sweep/mpi.h"
 #include "rmhb/sweep/run.h"
 #include "rmhb/sweep/sweep_file.h"
 

@@ -3,7 +3,7 @@
 
 // A sweep as work: lines of the grid (rmhb/sweep/parameter_grid.h) handed
 // out one at a time by a LineSource -- a counter in one process, a
-// dispatcher over MPI (rmhb/sweep/mpi_lines.h) -- each solved point by point
+// dispatcher over MPI (rmhb/sweep/mpi.h) -- each solved point by point
 // in order and journaled (rmhb/sweep/journal.h). Points already in the
 // journal are not solved again; the last of them seeds the continuation of
 // the next, read back bit for bit. So the points' results, and the file made

@@ -183,9 +183,11 @@ TEST(SweepCli, KilledPartWayAndResumedGivesTheSameFileAndNoPointTwice) {
   EXPECT_EQ(j["computed"].get<long>() + j["resumed"].get<long>(), 36);
   EXPECT_EQ(j["duplicates"], 0);
   EXPECT_EQ(Bytes(dir / "cut.h5"), Bytes(dir / "whole.h5"));
+  // The log line follows the journal's fsync: the kill may land between
+  // them, leaving the log one line short, never a point computed twice.
   const std::multiset<long> computed = ComputedPoints(dir / "cut.log");
-  EXPECT_EQ(computed.size(), 36u);
-  EXPECT_EQ(std::set<long>(computed.begin(), computed.end()).size(), 36u) << "a point was computed twice";
+  EXPECT_EQ(std::set<long>(computed.begin(), computed.end()).size(), computed.size()) << "a point computed twice";
+  EXPECT_GE(computed.size(), 35u);
 }
 
 std::string MpiRun(int ranks) {
@@ -215,7 +217,28 @@ TEST(SweepCli, OneTwoAndThreeRanksWriteTheSameBytesAndARankKilledResumes) {
   EXPECT_EQ(Bytes(dir / "k.h5"), Bytes(dir / "one.h5"));
   const std::multiset<long> computed = ComputedPoints(dir / "k.log");
   EXPECT_EQ(std::set<long>(computed.begin(), computed.end()).size(), computed.size()) << "a point computed twice";
-  EXPECT_EQ(std::set<long>(computed.begin(), computed.end()).size(), 36u);
+  EXPECT_GE(computed.size(), 34u);  // a line short per computing rank the kill caught between journal and log
+}
+
+}  // namespace
+
+namespace {
+
+// Without what depends on the machine and the number of processes.
+nlohmann::json Census(const std::string& command) {
+  const ShellRun run = Shell(command);
+  EXPECT_EQ(run.code, 0) << run.out;
+  nlohmann::json j = nlohmann::json::parse(run.out);
+  for (const char* key : {"seconds", "threads", "ranks"}) j.erase(key);
+  for (nlohmann::json& m : j["methods"]) m.erase("solve_cpu_seconds");
+  return j;
+}
+
+TEST(MonteCarloMpi, ThreeRanksTakeTheSameCensusAsOne) {
+  const std::string args = " montecarlo " + kModel + " --starts 600 --order 3 --threads 1 --json";
+  const nlohmann::json one = Census(std::string(RMHB_CLI) + args);
+  EXPECT_EQ(Census(MpiRun(3) + RMHB_CLI + args), one);
+  EXPECT_GT(one["methods"][1]["distinct_solutions"].get<int>(), 1);
 }
 
 }  // namespace

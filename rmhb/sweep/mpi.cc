@@ -1,4 +1,4 @@
-#include "rmhb/sweep/mpi_lines.h"
+#include "rmhb/sweep/mpi.h"
 
 #include <mpi.h>
 
@@ -14,7 +14,17 @@ bool active = false;
 
 }  // namespace
 
+// Started by mpirun/mpiexec or srun: the launchers' environment says so.
+bool Launched() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+    if (std::getenv(name) != nullptr) return true;
+  return false;
+}
+
 MpiSession::MpiSession(int* argc, char*** argv) {
+  // A singleton MPI_Init costs OpenMPI ~0.4 s of start-up (it sets up a
+  // runtime for one process): a run without a launcher is one rank anyway.
+  if (!Launched()) return;
   MPI_Init(argc, argv);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
@@ -22,6 +32,7 @@ MpiSession::MpiSession(int* argc, char*** argv) {
 }
 
 MpiSession::~MpiSession() {
+  if (!active) return;
   active = false;
   MPI_Finalize();
 }
@@ -54,6 +65,28 @@ LineSource RequestLines() {
     MPI_Recv(&line, 1, MPI_LONG, 0, kLineTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     return line;
   };
+}
+
+std::vector<double> GatherToRoot(const std::vector<double>& local) {
+  if (!active) return local;
+  int size = 1, rank = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const int count = static_cast<int>(local.size());
+  std::vector<int> counts(size), offsets(size);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  long total = 0;
+  for (int r = 0; r < size; ++r) offsets[r] = static_cast<int>(total), total += counts[r];
+  std::vector<double> all(rank == 0 ? total : 0);
+  MPI_Gatherv(local.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, 0,
+              MPI_COMM_WORLD);
+  return all;
+}
+
+double SumToRoot(double value) {
+  double sum = value;
+  if (active) MPI_Reduce(&value, &sum, 1, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+  return sum;
 }
 
 long SumToRoot(long value) {

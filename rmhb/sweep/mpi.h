@@ -1,7 +1,7 @@
-#ifndef RMHB_SWEEP_MPI_LINES_H_
-#define RMHB_SWEEP_MPI_LINES_H_
+#ifndef RMHB_SWEEP_MPI_H_
+#define RMHB_SWEEP_MPI_H_
 
-// A sweep's lines over MPI (OpenMPI's mpirun, or srun): rank 0 hands out
+// MPI for sweeps and Monte Carlo censuses. A sweep's lines over MPI (OpenMPI's mpirun, or srun): rank 0 hands out
 // lines one at a time to whichever rank asks (dynamic load balancing: a
 // line near a resonance can cost orders of magnitude more than one away
 // from it); the other ranks solve them. With one rank, that rank solves
@@ -19,8 +19,9 @@
 
 namespace rmhb::sweep {
 
-// MPI_Init on construction, MPI_Finalize on destruction. Works without
-// mpirun too (a singleton: one rank).
+// MPI_Init on construction, MPI_Finalize on destruction, when the process
+// was started by a launcher (mpirun, mpiexec, srun); without one it is
+// rank 0 of 1 and MPI is not initialised (a singleton start-up costs time).
 class MpiSession {
  public:
   MpiSession(int* argc, char*** argv);
@@ -41,6 +42,9 @@ void ServeLines(const std::vector<long>& lines, int size);
 LineSource RequestLines();
 
 // Collective helpers (every rank calls them; rank 0 gets the result).
+// GatherToRoot: every rank's vector, concatenated in rank order.
+std::vector<double> GatherToRoot(const std::vector<double>& local);
+double SumToRoot(double value);
 long SumToRoot(long value);
 double MaxToRoot(double value);
 void Barrier();
@@ -51,4 +55,4 @@ bool MpiActive();
 
 }  // namespace rmhb::sweep
 
-#endif  // RMHB_SWEEP_MPI_LINES_H_
+#endif  // RMHB_SWEEP_MPI_H_
