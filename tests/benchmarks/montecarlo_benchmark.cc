@@ -1,4 +1,4 @@
-// The paper's Table 1 (METHOD.md s.3) on the forced Duffing oscillator
+// The paper's Table 1 (rmhb/METHOD.md s.3) on the forced Duffing oscillator
 // x'' + 0.1 x' + x + x^3 = cos(2 t), where three periodic solutions coexist:
 // 10^4 random starts, every coefficient uniform in [-2, 2], solved by RHB and
 // HDHB at the same order, with the wall time of the whole census. The

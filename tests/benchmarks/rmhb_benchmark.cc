@@ -1,4 +1,4 @@
-// Quasi-periodic RMHB (METHOD.md s.6): error against run time for p = 1..p_max
+// Quasi-periodic RMHB (rmhb/METHOD.md s.6): error against run time for p = 1..p_max
 // on the asymmetric pendulum (two unknown base frequencies) and the forced
 // Van der Pol oscillator (forcing known, limit cycle unknown), with the GCD
 // rule beside the torus grid wherever it is feasible. Run on demand:

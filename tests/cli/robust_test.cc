@@ -1,7 +1,7 @@
 // Issue 6 leftovers through the command line: out-of-memory requests refused
 // up front by every command that solves, `solve --stability` on the three
 // Duffing responses, and the regularised solvers on the pendulum's
-// near-singular Jacobian (METHOD.md s.5).
+// near-singular Jacobian (rmhb/METHOD.md s.5).
 
 #include <gtest/gtest.h>
 
@@ -116,7 +116,7 @@ TEST(CliRobust, StabilitySaysWhereHillDoesNotApply) {
   EXPECT_NE(r.out.find("stability    CVODE    stable"), std::string::npos) << r.out;
 }
 
-// METHOD.md s.5: with the paper's scheme 2 (auxiliaries pinned, amplitude
+// rmhb/METHOD.md s.5: with the paper's scheme 2 (auxiliaries pinned, amplitude
 // condition) the pendulum's Jacobian is singular to round-off and Newton
 // fails; Levenberg-Marquardt and Tikhonov reach the exact frequency
 // (w = pi / (2 K(m)), examples/references.h) and the summary's reciprocal

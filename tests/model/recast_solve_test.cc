@@ -177,7 +177,7 @@ TEST(RecastSolve, PositionDependentMass) {
   EXPECT_LE(std::abs(o.x_half + 1.0), 1e-11) << o.report;
 }
 
-// ---- radical of the velocity: the relativistic oscillator (METHOD.md eq. 17) ----------
+// ---- radical of the velocity: the relativistic oscillator (rmhb/METHOD.md eq. 17) ----------
 TEST(RecastSolve, RelativisticOscillator) {
   const char* text =
       "variables: [x]\n"

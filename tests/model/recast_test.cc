@@ -106,7 +106,7 @@ TEST(Recast, FirstOrderEquationNeedsNoChain) {
 }
 
 TEST(Recast, DerivativeCouplingVanDerPol) {
-  // METHOD.md s.4 rule 1: x' = u, u' = eps u - x - eps x^2 u + F cos wt, phi = 3.
+  // rmhb/METHOD.md s.4 rule 1: x' = u, u' = eps u - x - eps x^2 u + F cos wt, phi = 3.
   const RecastResult r = RecastText(
       "variables: [x]\nparameters: {eps: 0.5, F: 2}\n"
       "equations: [\"x'' - eps*(1 - x^2)*x' + x = F*cos(w*t)\"]\nfrequencies: [1.3]\n");
@@ -115,7 +115,7 @@ TEST(Recast, DerivativeCouplingVanDerPol) {
 }
 
 TEST(Recast, SecondDerivativesInsideNonlinearTermsStayImplicit) {
-  // The asymmetric pendulum (METHOD.md eq. 25): x y y'' is the cubic x y (y_d1)'.
+  // The asymmetric pendulum (rmhb/METHOD.md eq. 25): x y y'' is the cubic x y (y_d1)'.
   const RecastResult r = RecastText(
       "variables: [x, y]\nparameters: {k: 0.01}\n"
       "equations:\n"
@@ -175,7 +175,7 @@ TEST(Recast, SinAndCosArePairedAndShared) {
 }
 
 TEST(Recast, PendulumAsInThePaper) {
-  // METHOD.md eq. 20: theta' = v, v' = -s, s' = c v, c' = -s v, phi = 2.
+  // rmhb/METHOD.md eq. 20: theta' = v, v' = -s, s' = c v, c' = -s v, phi = 2.
   const RecastResult r = RecastText(
       "variables: [theta]\nparameters: {theta0: 1.5}\nequations: [\"theta'' + sin(theta) = 0\"]\n"
       "frequencies: [{guess: 0.86}]\nconditions: [\"theta(0) = theta0\", \"theta'(0) = 0\"]\n"
@@ -254,7 +254,7 @@ TEST(Recast, RayleighPlessetInThePapersFormHasDegreeFour) {
 }
 
 TEST(Recast, RadicalOfTheVelocity) {
-  // Relativistic oscillator (METHOD.md eq. 18): u^2 + v^2 - 1 = 0, v' + u^3 x = 0, phi 4.
+  // Relativistic oscillator (rmhb/METHOD.md eq. 18): u^2 + v^2 - 1 = 0, v' + u^3 x = 0, phi 4.
   const RecastResult r = RecastText(Free("x'' + (1 - x'^2)^(3/2)*x = 0"));
   EXPECT_EQ(Names(r), (std::vector<std::string>{"x", "x_d1", "sqrt_1"}));
   EXPECT_TRUE(HasEquation(r, "-1 + x_d1^2 + sqrt_1^2")) << Dump(r);

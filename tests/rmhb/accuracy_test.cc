@@ -1,4 +1,4 @@
-// Accuracy against exact references (METHOD.md s.7): the numbers the paper
+// Accuracy against exact references (rmhb/METHOD.md s.7): the numbers the paper
 // reports are floors to beat.
 
 #include <gtest/gtest.h>

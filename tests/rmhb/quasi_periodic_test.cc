@@ -1,4 +1,4 @@
-// Quasi-periodic responses on a 2-torus (RMHB, METHOD.md s.6): the issue's
+// Quasi-periodic responses on a 2-torus (RMHB, rmhb/METHOD.md s.6): the issue's
 // must-show items against tight CVODE trajectories of the ORIGINAL equations,
 // the two samplings (torus grid, GCD rule), rational ratios, the spectrum-
 // shaped bases and the half-turn symmetry reduction.
