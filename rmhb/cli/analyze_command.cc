@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "examples/identified_guess.h"
+#include "rmhb/seeding/identified_guess.h"
 #include "frequency_id/frequency_identification.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/cli/commands.h"
@@ -89,8 +89,8 @@ int RunAnalyze(const AnalyzeArgs& a) {
       samples_per_period = bases == 1 ? std::clamp(5 * options.order / 2, 16, 1024) : 12;
     // A periodic record's lines are exact harmonics, fitted jointly: 60
     // periods give the frequency to CVODE's drift already.
-    examples::RecordOptions record =
-        examples::DefaultRecord(problem.frequencies, samples_per_period, bases == 1 ? 60 : 200);
+    seeding::RecordOptions record =
+        seeding::DefaultRecord(problem.frequencies, samples_per_period, bases == 1 ? 60 : 200);
     // A given transient comes before the default record; a given t_end keeps
     // the default tenth as the transient.
     const double length = record.t_end - record.transient;
@@ -158,7 +158,7 @@ int RunAnalyze(const AnalyzeArgs& a) {
     } else {
       t0 = Clock::now();
       try {
-        const examples::IdentifiedGuess seed = examples::GuessFromIdentification(
+        const seeding::IdentifiedGuess seed = seeding::GuessFromIdentification(
             id, problem, MakeBasis(bases, options), source.variables, source.state_derivatives, &signal);
         const double seed_seconds = Since(t0);
         guess = seed.guess;

@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <iostream>
 
-#include "examples/identified_guess.h"
+#include "rmhb/seeding/identified_guess.h"
 #include "frequency_id/frequency_identification.h"
 #include "frequency_id/signal_io.h"
 #include "integrators/cvode_integrator.h"
@@ -38,7 +38,7 @@ frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known,
     if (source.problem.unknown_frequency.empty() || !source.problem.unknown_frequency[b]) known->push_back(w[b]);
   // 4 beats keep close bases 4 bins apart, enough for Hann^1; 20 took 14 s on
   // the asymmetric pendulum for the same bases (frequency_id_benchmark, section 4).
-  examples::RecordOptions record = examples::DefaultRecord(w, a.samples_per_period, 300, 4);
+  seeding::RecordOptions record = seeding::DefaultRecord(w, a.samples_per_period, 300, 4);
   if (a.t_end > 0) record.t_end = a.t_end;
   record.transient = a.transient >= 0 ? a.transient : 0.1 * record.t_end;
   if (!std::isfinite(record.t_end) || record.t_end > 1e7) throw std::invalid_argument("--t-end is too large");

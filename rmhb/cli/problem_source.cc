@@ -131,10 +131,10 @@ const char* OriginalIntegrator(const ProblemSource& source) {
 }
 
 frequency_id::Signal RecordOriginal(const ProblemSource& source, const std::vector<double>& w,
-                                    const Eigen::VectorXd& y0, const examples::RecordOptions& record) {
+                                    const Eigen::VectorXd& y0, const seeding::RecordOptions& record) {
   RequireOriginal(source);
-  return source.original_dae ? examples::RecordTrajectory(source.original_dae(w), y0, record, source.state_names)
-                             : examples::RecordTrajectory(source.original(w), y0, record, source.state_names);
+  return source.original_dae ? seeding::RecordTrajectory(source.original_dae(w), y0, record, source.state_names)
+                             : seeding::RecordTrajectory(source.original(w), y0, record, source.state_names);
 }
 
 integrators::ValidationReport ValidateOriginal(const ProblemSource& source, const HarmonicSolution& solution,

@@ -15,7 +15,7 @@
 #include <Eigen/Dense>
 
 #include "examples/example_system.h"
-#include "examples/identified_guess.h"
+#include "rmhb/seeding/identified_guess.h"
 #include "integrators/ode_system.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/collocation_residual.h"
@@ -44,7 +44,7 @@ struct ProblemSource {
   std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
   std::vector<std::string> state_names;
   // Every variable from the state and its derivatives on a torus.
-  examples::StateToVariables variables;
+  seeding::StateToVariables variables;
   int state_derivatives = 0;
   bool stiff = false;
   std::string original_error;  // why there is no original system, if so
@@ -76,7 +76,7 @@ ProblemSource LoadProblem(const std::string& model, const std::map<std::string, 
 // source has no original equations.
 const char* OriginalIntegrator(const ProblemSource& source);  // "IDA BDF", "CVODE BDF", "CVODE Adams"
 frequency_id::Signal RecordOriginal(const ProblemSource& source, const std::vector<double>& w,
-                                    const Eigen::VectorXd& y0, const examples::RecordOptions& record);
+                                    const Eigen::VectorXd& y0, const seeding::RecordOptions& record);
 // The solution's state against a trajectory of the original equations from
 // it at t = 0, over [0, t_end] (integrators/trajectory_validation.h).
 integrators::ValidationReport ValidateOriginal(const ProblemSource& source, const HarmonicSolution& solution,

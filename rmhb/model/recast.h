@@ -90,7 +90,7 @@ struct RecastResult {
   // their time derivatives, `user` = (x, x', ..., x^(user_derivatives[0]),
   // y, y', ...): states read off, auxiliaries from their definitions. How a
   // guess measured on a trajectory reaches the auxiliaries
-  // (examples/identified_guess.h); `guess` is this on the guessed values.
+  // (rmhb/seeding/identified_guess.h); `guess` is this on the guessed values.
   std::function<Eigen::VectorXd(const std::vector<double>& theta, const std::vector<double>& user)>
       variables_from_user;
   std::vector<int> user_derivatives;  // per user variable, its highest derivative in `user`

@@ -31,7 +31,7 @@
 #include <vector>
 
 #include "examples/example_system.h"
-#include "examples/identified_guess.h"
+#include "rmhb/seeding/identified_guess.h"
 #include "frequency_id/frequency_identification.h"
 #include "rmhb/harmonic_balance.h"
 
@@ -129,14 +129,14 @@ void AsymmetricPendulumRows() {
       {3, 12, 1e-13, 1e-8, 32} /* rmhb analyze's default */, {3, 12, 1e-12, 1e-8, 32},  {3, 12, 1e-11, 1e-8, 32},
       {3, 10, 1e-12, 1e-8, 32},   {3, 12, 1e-12, 1e-8, 24},  {2.5, 12, 1e-12, 1e-8, 32}};
   for (const PendulumRow& row : rows) {
-    rmhb::examples::RecordOptions record =
-        rmhb::examples::DefaultRecord(problem.frequencies, row.samples_per_period, 200, row.beats);
+    rmhb::seeding::RecordOptions record =
+        rmhb::seeding::DefaultRecord(problem.frequencies, row.samples_per_period, 200, row.beats);
     record.transient = 0;  // a conservative motion from its initial state: no transient
     record.t_end *= 0.9;
     record.integrator.relative_tolerance = row.rtol;
     record.integrator.absolute_tolerance = row.rtol * 1e-2;
     const auto start = Clock::now();
-    const Signal signal = rmhb::examples::RecordTrajectory({4, e.original.rhs}, e.original.initial_state, record);
+    const Signal signal = rmhb::seeding::RecordTrajectory({4, e.original.rhs}, e.original.initial_state, record);
     const double trajectory = std::chrono::duration<double>(Clock::now() - start).count();
     IdentificationOptions options;
     options.relative_threshold = row.relative_threshold;
@@ -146,7 +146,7 @@ void AsymmetricPendulumRows() {
     const double total = std::chrono::duration<double>(Clock::now() - start).count();
     double error = -1;
     try {
-      const rmhb::examples::IdentifiedGuess seed = rmhb::examples::GuessFromIdentification(
+      const rmhb::seeding::IdentifiedGuess seed = rmhb::seeding::GuessFromIdentification(
           summary, problem, e.basis_for_order(2), [](const std::vector<double>&, const std::vector<Eigen::VectorXd>& y) { return y[0]; });
       error = std::max(std::abs(seed.frequencies[0] - w[0]), std::abs(seed.frequencies[1] - w[1]));
     } catch (const std::exception& ex) {

@@ -12,13 +12,16 @@
 #include <vector>
 
 #include "examples/example_system.h"
-#include "examples/identified_guess.h"
+#include "rmhb/seeding/identified_guess.h"
 #include "frequency_id/frequency_identification.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/harmonic_balance.h"
 
-namespace rmhb::examples {
+namespace rmhb::seeding {
 namespace {
+
+using examples::BuildExample;
+using examples::ExampleSetup;
 
 HarmonicBalanceOptions Options(const ExampleSetup& e, int order) {
   HarmonicBalanceOptions o;
@@ -162,4 +165,4 @@ TEST(IdentifiedGuess, RefusesAnIdentificationWithAnotherNumberOfBases) {
 }
 
 }  // namespace
-}  // namespace rmhb::examples
+}  // namespace rmhb::seeding

@@ -1,5 +1,5 @@
-#ifndef RMHB_EXAMPLES_IDENTIFIED_GUESS_H_
-#define RMHB_EXAMPLES_IDENTIFIED_GUESS_H_
+#ifndef RMHB_SEEDING_IDENTIFIED_GUESS_H_
+#define RMHB_SEEDING_IDENTIFIED_GUESS_H_
 
 // A starting guess for (quasi-)periodic harmonic balance measured on a
 // trajectory: integrate the original equations (CVODE), identify the base
@@ -44,7 +44,7 @@
 #include "rmhb/collocation_residual.h"
 #include "rmhb/harmonic_solution.h"
 
-namespace rmhb::examples {
+namespace rmhb::seeding {
 
 // ---- The record ---------------------------------------------------------------
 struct RecordOptions {
@@ -119,6 +119,6 @@ IdentifiedGuess GuessFromIdentification(const frequency_id::IdentificationSummar
                                         int state_derivatives = 0,
                                         const frequency_id::Signal* record = nullptr);
 
-}  // namespace rmhb::examples
+}  // namespace rmhb::seeding
 
-#endif  // RMHB_EXAMPLES_IDENTIFIED_GUESS_H_
+#endif  // RMHB_SEEDING_IDENTIFIED_GUESS_H_

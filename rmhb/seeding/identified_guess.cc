@@ -1,4 +1,4 @@
-#include "examples/identified_guess.h"
+#include "rmhb/seeding/identified_guess.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "integrators/cvode_integrator.h"
 #include "integrators/ida_integrator.h"
 
-namespace rmhb::examples {
+namespace rmhb::seeding {
 namespace {
 
 using frequency_id::IdentificationSummary;
@@ -375,4 +375,4 @@ std::string IdentifiedGuess::Report() const {
   return os.str();
 }
 
-}  // namespace rmhb::examples
+}  // namespace rmhb::seeding
