@@ -189,13 +189,6 @@ PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, d
   return PreparedSolve{std::move(source), std::move(options), std::move(guess)};
 }
 
-HarmonicSolution GuessAtOrder(const ProblemSource& source, int order) {
-  const HarmonicSolution guess = source.guess(order);
-  std::vector<double> w = guess.frequencies();
-  for (size_t b = 0; b < w.size(); ++b) w[b] = source.problem.frequencies[b];
-  return guess.WithFrequencies(w);
-}
-
 json SolutionJson(const HarmonicSolution& sol) {
   const int bases = static_cast<int>(sol.frequencies().size());
   json out;

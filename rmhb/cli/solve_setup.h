@@ -62,10 +62,6 @@ ProblemSource LoadSolveProblem(const SolveSettings& settings,
 PreparedSolve PrepareSolve(const SolveSettings& settings,
                            const std::map<std::string, double>& overrides = {});
 
-// The source's starting guess at `order`, with the problem's frequencies
-// (after --frequencies): what PrepareSolve gives, for any other order.
-HarmonicSolution GuessAtOrder(const ProblemSource& source, int order);
-
 // "a,b,c" or "a:b:c" -> numbers; throws std::invalid_argument naming `what`
 // and the item that is not a finite number.
 std::vector<double> ParseNumberList(const std::string& text, const char* what);

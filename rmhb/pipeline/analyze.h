@@ -1,0 +1,78 @@
+#ifndef RMHB_PIPELINE_ANALYZE_H_
+#define RMHB_PIPELINE_ANALYZE_H_
+
+// The whole pipeline on a model, each stage timed and checked:
+//   trajectory (CVODE or IDA on the original equations) -> identify (base
+//   frequencies, labelled lines; frequency_id/) -> seed (the guess on the
+//   basis; rmhb/seeding/) -> solve (RHB for one base, RMHB for several) ->
+//   validate (the solution against a trajectory of the original equations).
+//   AnalyzeSummary s = Analyze(model, options);
+// With options.identify false the first three are skipped and the model's
+// own guess (GuessAtOrder) starts the solve. A stage that fails is a status in the summary
+// (with the residual reached for the solve), never an exception; misuse
+// (invalid options, a model without original equations) throws
+// std::invalid_argument.
+
+#include <optional>
+#include <string>
+
+#include "frequency_id/frequency_identification.h"
+#include "integrators/trajectory_validation.h"
+#include "rmhb/harmonic_balance.h"
+#include "rmhb/pipeline/model.h"
+#include "rmhb/seeding/identified_guess.h"
+
+namespace rmhb {
+
+struct AnalyzeOptions {
+  HarmonicBalanceOptions solve;  // order, sampling rule, solver
+  bool identify = true;
+  double t_end = 0;            // of the record; 0: from the model's frequencies
+  double transient = -1;       // integrated, not recorded; -1: a tenth of t_end
+  int samples_per_period = 0;  // of the fastest base; 0: from the order
+  int window = 0;              // Hann^q for identification; 0: automatic
+  int validate_periods = 20;   // of the slowest base
+  std::string IsValid() const;  // empty when valid
+};
+
+enum class AnalyzeStatus {
+  kConverged,             // solved, physical, validated (see validation->max_error)
+  kIdentificationFailed,  // no usable bases in the record
+  kSeedFailed,            // the identified lines do not fit the model's bases
+  kNotConverged,          // the solver stopped (solve->solver says why)
+  kNonPhysical,           // converged to a non-physical solution (solve->non_physical)
+};
+// "converged", "identification_failed", "seed_failed", the solver's status, "non_physical"
+const char* ToString(AnalyzeStatus status);
+
+struct RecordStage {
+  seeding::RecordOptions record;
+  int samples = 0;
+  double seconds = 0;
+};
+
+struct AnalyzeSummary {
+  AnalyzeStatus status = AnalyzeStatus::kNotConverged;
+  std::string message;
+  bool identified = false;  // the first three stages ran
+  std::optional<RecordStage> trajectory;
+  std::optional<frequency_id::IdentificationSummary> identification;
+  double identify_seconds = 0;
+  std::optional<seeding::IdentifiedGuess> seed;
+  double seed_seconds = 0;
+  HarmonicBalanceProblem problem;  // as solved: the identified frequencies as guesses
+  std::optional<HarmonicBalanceSummary> solve;
+  std::optional<integrators::ValidationReport> validation;
+  double validation_t_end = 0;
+  double seconds = 0;
+
+  bool ok() const { return status == AnalyzeStatus::kConverged; }
+  std::string BriefReport() const;
+  std::string FullReport() const;  // one line per stage
+};
+
+AnalyzeSummary Analyze(const Model& model, const AnalyzeOptions& options);
+
+}  // namespace rmhb
+
+#endif  // RMHB_PIPELINE_ANALYZE_H_

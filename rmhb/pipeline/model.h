@@ -1,0 +1,90 @@
+#ifndef RMHB_PIPELINE_MODEL_H_
+#define RMHB_PIPELINE_MODEL_H_
+
+// A model as every study sees it, whatever it came from: the harmonic
+// balance problem (the recast, rmhb/model/recast.h), a starting guess at any
+// order, the original equations with the integrator they need (CVODE for an
+// ODE, IDA for a DAE) for validation and trajectories, and the map from a
+// solution to the original state. LoadModel makes one from a model file
+// (rmhb/model/FORMAT.md); a program can fill one by hand (the CLI's built-in
+// examples do).
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "frequency_id/signal.h"
+#include "integrators/ode_system.h"
+#include "integrators/trajectory_validation.h"
+#include "rmhb/collocation_residual.h"
+#include "rmhb/harmonic_solution.h"
+#include "rmhb/model/model_definition.h"
+#include "rmhb/model/original_system.h"
+#include "rmhb/seeding/identified_guess.h"
+
+namespace rmhb {
+
+struct Model {
+  std::string name;
+  std::string equation;  // as the user wrote it
+  bool from_file = false;
+  HarmonicBalanceProblem problem;
+  int default_order = 20;
+  std::function<HarmonicSolution(int order)> guess;
+  // The model's own index set for an order, when the default diamond or
+  // box does not fit its spectrum (e.g. the asymmetric pendulum's beat).
+  std::function<HarmonicBasis(int order)> basis_for_order;
+  // The original equations with the base frequencies bound to `w` (forcing
+  // terms need the solved values), and the state a solution predicts.
+  std::function<integrators::OdeSystem(const std::vector<double>& w)> original;
+  // Set instead of `original` for a model with algebraic equations: the DAE
+  // F(t, y, y') = 0 for IDA.
+  std::function<integrators::DaeSystem(const std::vector<double>& w)> original_dae;
+  std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
+  std::vector<std::string> state_names;
+  // Every variable from the state and its derivatives on a torus.
+  seeding::StateToVariables variables;
+  int state_derivatives = 0;
+  bool stiff = false;
+  std::string original_error;  // why there is no original system, if so
+  std::string recast_report;   // the polynomial system, readable
+  // Where the model starts (simulate, identify, analyze): its initial state,
+  // or else the guess's state at t = 0. Empty only when there is no
+  // original system.
+  Eigen::VectorXd initial_state;
+  // Where each original state lives among the recast variables, and how
+  // many of the problem's conditions are the user's (the rest pin
+  // auxiliaries, METHOD.md eq. 24).
+  std::vector<model::StateSource> state_sources;
+  int num_user_conditions = 0;
+  // The parsed model (model files only): for symbolic variants such as the
+  // Taylor-expanded system.
+  std::shared_ptr<const model::ModelDefinition> definition;
+  model::ParameterValues overrides;
+};
+
+// A model file with parameter overrides. Throws model::ModelError
+// (file:line:column) or std::invalid_argument (an unknown parameter).
+Model LoadModel(const std::string& path, const std::map<std::string, double>& overrides = {});
+
+// The model's starting guess at `order`, with the problem's frequencies
+// (which a caller may have changed since the model was loaded).
+HarmonicSolution GuessAtOrder(const Model& model, int order);
+
+// The model's original equations integrated by what they need: IDA for a
+// DAE, else CVODE (BDF when the model is stiff). They throw
+// std::invalid_argument with original_error when there are none.
+const char* OriginalIntegrator(const Model& model);  // "IDA BDF", "CVODE BDF", "CVODE Adams"
+frequency_id::Signal RecordOriginal(const Model& model, const std::vector<double>& w, const Eigen::VectorXd& y0,
+                                    const seeding::RecordOptions& record);
+// The solution's state against a trajectory of the original equations from
+// it at t = 0, over [0, t_end] (integrators/trajectory_validation.h).
+integrators::ValidationReport ValidateOriginal(const Model& model, const HarmonicSolution& solution, double t_end);
+
+}  // namespace rmhb
+
+#endif  // RMHB_PIPELINE_MODEL_H_
