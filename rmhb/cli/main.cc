@@ -9,6 +9,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "rmhb/version.h"
 #include "rmhb/cli/analyze_command.h"
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/continuation_command.h"
@@ -59,7 +60,7 @@ int main(int argc, char** argv) {
       "wrong root of a sqrt recast or aliasing, or an unknown frequency collapsed to w <= 0).\n"
       "`rmhb <command> --help` describes each command, its options and defaults."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "rmhb 0.1.0");
+  app.set_version_flag("--version", "rmhb " RMHB_VERSION_STRING);
 
   SolveArgs solve;
   CLI::App* solve_cmd = app.add_subcommand(

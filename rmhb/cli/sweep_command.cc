@@ -18,6 +18,7 @@
 #include "rmhb/sweep/mpi.h"
 #include "rmhb/sweep/run.h"
 #include "rmhb/sweep/sweep_file.h"
+#include "rmhb/version.h"
 
 namespace rmhb::cli {
 namespace {
@@ -228,7 +229,7 @@ int RunSweep(const SweepArgs& a, int rank, int ranks) {
   if (const std::string error = options.IsValid(); !error.empty()) throw std::invalid_argument(error);
 
   SweepFileInfo info;
-  info.software = "rmhb 0.1.0";
+  info.software = "rmhb " RMHB_VERSION_STRING;
   info.model = a.settings.model;
   if (prepared.source.from_file) info.model_text = ReadFile(a.settings.model);
   for (const std::string& s : a.settings.set) info.parameters += (info.parameters.empty() ? "" : " ") + s;

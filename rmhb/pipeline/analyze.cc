@@ -175,7 +175,7 @@ std::string AnalyzeSummary::FullReport() const {
     out << "identify    " << frequency_id::ToString(identification->status) << ", "
         << identification->components.size() << " lines, " << identify_seconds << " s\n";
   if (seed) out << "seed        " << seed->Report() << "\n";
-  if (solve) out << "solve       " << solve->BriefReport();
+  if (solve) out << "solve       " << solve->BriefReport() << "\n";
   if (validation)
     out << "validate    max error " << validation->max_error << " over [0, " << validation_t_end << "] against "
         << validation->integrator << "\n";
