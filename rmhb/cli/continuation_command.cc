@@ -128,12 +128,9 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
       r.amplitude_error = p.solution.Amplitude(p.solution.IndexOf(source.reference.amplitude_variable)) -
                           source.reference.amplitude;
     if (solve.validate) {
-      if (!source.original) throw std::invalid_argument("cannot validate: " + source.original_error);
       const auto& w = p.solution.frequencies();
       const double period = 2 * M_PI / *std::min_element(w.begin(), w.end());
-      const integrators::ValidationReport v = integrators::ValidateTrajectory(
-          source.original(w), [&](double t) { return source.state(p.solution, t); },
-          solve.validate_periods * period, source.stiff, 401);
+      const integrators::ValidationReport v = ValidateOriginal(source, p.solution, solve.validate_periods * period, 401);
       r.validation_error = v.ok ? v.max_error : NAN;
     }
     reports.push_back(r);

@@ -152,11 +152,14 @@ struct Column {
 };
 
 // Which error the table shows: the strongest the reference allows.
-std::string ErrorMeasure(const examples::Reference& ref, const std::string& first_variable) {
+std::string ErrorMeasure(const ProblemSource& source, const std::string& first_variable) {
+  const examples::Reference& ref = source.reference;
   if (ref.solution) return "max over one period of |" + first_variable + "(t) - exact|";
   if (ref.has_amplitude()) return "|amplitude of " + ref.amplitude_variable + " - exact|";
   if (ref.has_frequency()) return "|w - exact|";
-  return "max state error over one period against CVODE (Adams, rtol 1e-13) started on the solution";
+  return std::string("max state error over one period against ") +
+         (source.original_dae ? "IDA (BDF, rtol 1e-14)" : source.stiff ? "CVODE (BDF, rtol 1e-12)" : "CVODE (Adams, rtol 1e-13)") +
+         " started on the solution";
 }
 
 void Measure(const ProblemSource& source, const HarmonicSolution& sol, const StateOf& state, Cell* cell) {
@@ -176,10 +179,9 @@ void Measure(const ProblemSource& source, const HarmonicSolution& sol, const Sta
     cell->error = cell->amplitude_error;
   } else if (ref.has_frequency()) {
     cell->error = cell->frequency_error;
-  } else if (source.original) {
+  } else if (source.original || source.original_dae) {
     const double period = 2 * M_PI / *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
-    const integrators::ValidationReport v = integrators::ValidateTrajectory(
-        source.original(sol.frequencies()), [&](double t) { return state(sol, t); }, period, source.stiff);
+    const integrators::ValidationReport v = ValidateOriginal(source, sol, period, 2001, state);
     cell->trajectory_error = v.ok ? v.max_error : kNaN;
     cell->error = cell->trajectory_error;
   }
@@ -480,7 +482,7 @@ int RunConvergence(const ConvergenceArgs& a) {
     }
 
   const std::string first = source.problem.system.variables()[0].name;
-  const std::string measure = ErrorMeasure(source.reference, first);
+  const std::string measure = ErrorMeasure(source, first);
   if (!a.plot.empty()) PlotTable(source, measure, orders, columns, a.plot);
 
   if (a.json) {

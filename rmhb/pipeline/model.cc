@@ -94,13 +94,14 @@ frequency_id::Signal RecordOriginal(const Model& source, const std::vector<doubl
                              : seeding::RecordTrajectory(source.original(w), y0, record, source.state_names);
 }
 
-integrators::ValidationReport ValidateOriginal(const Model& source, const HarmonicSolution& solution,
-                                               double t_end) {
+integrators::ValidationReport ValidateOriginal(const Model& source, const HarmonicSolution& solution, double t_end,
+                                               int samples, const StateOfSolution& state) {
   RequireOriginal(source);
-  auto claimed = [&](double t) { return source.state(solution, t); };
+  const StateOfSolution& map = state ? state : source.state;
+  auto claimed = [&](double t) { return map(solution, t); };
   const std::vector<double>& w = solution.frequencies();
-  return source.original_dae ? integrators::ValidateDaeTrajectory(source.original_dae(w), claimed, t_end)
-                             : integrators::ValidateTrajectory(source.original(w), claimed, t_end, source.stiff);
+  return source.original_dae ? integrators::ValidateDaeTrajectory(source.original_dae(w), claimed, t_end, samples)
+                             : integrators::ValidateTrajectory(source.original(w), claimed, t_end, source.stiff, samples);
 }
 
 }  // namespace rmhb

@@ -82,8 +82,12 @@ const char* OriginalIntegrator(const Model& model);  // "IDA BDF", "CVODE BDF", 
 frequency_id::Signal RecordOriginal(const Model& model, const std::vector<double>& w, const Eigen::VectorXd& y0,
                                     const seeding::RecordOptions& record);
 // The solution's state against a trajectory of the original equations from
-// it at t = 0, over [0, t_end] (integrators/trajectory_validation.h).
-integrators::ValidationReport ValidateOriginal(const Model& model, const HarmonicSolution& solution, double t_end);
+// it at t = 0, over [0, t_end] at `samples` times (integrators/
+// trajectory_validation.h). `state`: another map from a solution to the
+// original state than the model's (a variant of its recast), if given.
+using StateOfSolution = std::function<Eigen::VectorXd(const HarmonicSolution&, double t)>;
+integrators::ValidationReport ValidateOriginal(const Model& model, const HarmonicSolution& solution, double t_end,
+                                               int samples = 2001, const StateOfSolution& state = nullptr);
 
 }  // namespace rmhb
 
