@@ -22,6 +22,7 @@
 #include "rmhb/monte_carlo.h"
 #include "rmhb/pipeline/analyze.h"
 #include "rmhb/pipeline/model.h"
+#include "rmhb/pipeline/stability.h"
 #include "rmhb/seeding/identified_guess.h"
 #include "rmhb/version.h"
 

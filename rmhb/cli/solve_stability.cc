@@ -7,9 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "integrators/floquet.h"
 #include "rmhb/cli/solve_setup.h"
-#include "rmhb/hill_stability.h"
+#include "rmhb/pipeline/stability.h"
 
 namespace rmhb::cli {
 namespace {
@@ -23,87 +22,38 @@ json Complex(const Multipliers& values) {
   return out;
 }
 
-// Largest distance between the two sets, each of `a` paired with the
-// nearest unused one of `b` (conjugate pairs come in either order).
-double MatchedDifference(const Multipliers& a, const Multipliers& b) {
-  std::vector<bool> used(b.size(), false);
-  double worst = 0;
-  for (const auto& mu : a) {
-    int best = -1;
-    for (size_t j = 0; j < b.size(); ++j)
-      if (!used[j] && (best < 0 || std::abs(b[j] - mu) < std::abs(b[best] - mu))) best = int(j);
-    if (best < 0) break;
-    used[best] = true;
-    worst = std::max(worst, std::abs(b[best] - mu));
-  }
-  return worst;
-}
-
-// Within this of the unit circle a multiplier is neither growth nor decay
-// that a truncated (Hill) or tolerance-limited (CVODE) computation can
-// decide: a conservative orbit's multipliers sit there (neutral).
-constexpr double kNeutralBand = 1e-6;
-
-std::string Verdict(const Multipliers& mu, int trivial) {
-  double largest = 0;
-  for (size_t i = 0; i < mu.size(); ++i)
-    if (static_cast<int>(i) != trivial) largest = std::max(largest, std::abs(mu[i]));
-  return largest < 1 - kNeutralBand ? "stable" : largest > 1 + kNeutralBand ? "unstable" : "neutral";
-}
-
 }  // namespace
 
 json StabilityJson(const ProblemSource& source, const HarmonicSolution& solution) {
+  const StabilitySummary s = Stability(source, solution);
   json out = json::object();
-  if (solution.frequencies().size() != 1) {
-    const char* why = "quasi-periodic solution: no period, so neither Hill's method (one base "
-                      "frequency) nor a monodromy matrix applies";
-    out["hill"] = {{"note", why}};
-    out["floquet"] = {{"note", why}};
-    out["verdict"] = "unknown";
-    return out;
+  if (s.hill)
+    out["hill"] = {{"verdict", ToString(s.hill_verdict)},
+                   {"stable", s.hill->stable},
+                   {"multipliers", Complex(s.hill->multipliers)},
+                   {"exponents", Complex(s.hill->exponents)},
+                   {"max_real_part", Number(s.hill->max_real_part)},
+                   {"trivial", s.hill->trivial},
+                   {"seconds", s.hill->seconds}};
+  else
+    out["hill"] = {{"note", s.hill_note}};
+  if (s.floquet)
+    out["floquet"] = {{"ok", s.floquet->ok},
+                      {"verdict", ToString(s.floquet_verdict)},
+                      {"stable", s.floquet->stable},
+                      {"multipliers", Complex(s.floquet->multipliers)},
+                      {"trivial", s.floquet->trivial},
+                      {"closure_error", Number(s.floquet->closure_error)},
+                      {"integrator", s.floquet_integrator},
+                      {"seconds", s.floquet->seconds},
+                      {"message", s.floquet->message}};
+  else
+    out["floquet"] = {{"note", s.floquet_note}};
+  if (s.max_multiplier_difference) {
+    out["max_multiplier_difference"] = Number(*s.max_multiplier_difference);
+    out["agree"] = s.agree();
   }
-  std::optional<HillStabilityReport> hill;
-  try {
-    hill = HillStability(source.problem, solution);
-    out["hill"] = {{"verdict", Verdict(hill->multipliers, hill->trivial)},
-                   {"stable", hill->stable},
-                   {"multipliers", Complex(hill->multipliers)},
-                   {"exponents", Complex(hill->exponents)},
-                   {"max_real_part", Number(hill->max_real_part)},
-                   {"trivial", hill->trivial},
-                   {"seconds", hill->seconds}};
-  } catch (const std::invalid_argument& e) {
-    out["hill"] = {{"note", std::string("Hill's method refused: ") + e.what()}};
-  }
-  std::optional<integrators::FloquetReport> floquet;
-  if (source.original) {
-    integrators::FloquetOptions options;
-    options.autonomous = source.problem.num_unknown_frequencies() > 0;
-    if (source.stiff) options.integrator.method = integrators::IntegratorOptions::Method::kBdf;
-    const double w = solution.frequencies()[0];
-    floquet = integrators::FloquetMultipliers(source.original(solution.frequencies()),
-                                              source.state(solution, 0.0), 0.0, 2 * M_PI / w, options);
-    out["floquet"] = {{"ok", floquet->ok},
-                      {"verdict", floquet->ok ? Verdict(floquet->multipliers, floquet->trivial) : "unknown"},
-                      {"stable", floquet->stable},
-                      {"multipliers", Complex(floquet->multipliers)},
-                      {"trivial", floquet->trivial},
-                      {"closure_error", Number(floquet->closure_error)},
-                      {"integrator", source.stiff ? "CVODE BDF" : "CVODE Adams"},
-                      {"seconds", floquet->seconds},
-                      {"message", floquet->message}};
-  } else {
-    out["floquet"] = {{"note", "no monodromy matrix: " + (source.original_dae
-                                                              ? std::string("the original system is a DAE")
-                                                              : source.original_error)}};
-  }
-  const bool floquet_ok = floquet && floquet->ok;
-  if (hill && floquet_ok) {
-    out["max_multiplier_difference"] = Number(MatchedDifference(hill->multipliers, floquet->multipliers));
-    out["agree"] = out["hill"]["verdict"] == out["floquet"]["verdict"];
-  }
-  out["verdict"] = floquet_ok ? out["floquet"]["verdict"] : hill ? out["hill"]["verdict"] : json("unknown");
+  out["verdict"] = ToString(s.verdict);
   return out;
 }
 

@@ -4,6 +4,7 @@
 // between upward zero crossings.
 
 #include "rmhb/pipeline/analyze.h"
+#include "rmhb/pipeline/stability.h"
 
 #include <gtest/gtest.h>
 
@@ -84,6 +85,31 @@ TEST(Pipeline, MisuseThrows) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("none here"), std::string::npos);
   }
+}
+
+}  // namespace
+}  // namespace rmhb
+
+namespace rmhb {
+namespace {
+
+// Hill's method and the CVODE monodromy matrix, two independent routes to
+// the same multipliers, on a forced model file written for the tests.
+TEST(PipelineStability, HillAndTheMonodromyMatrixAgree) {
+  const Model model = LoadModel("tests/sweep/models/hardening.yaml", {{"W", 1.2}});
+  HarmonicBalanceOptions options;
+  options.order = 20;
+  const HarmonicBalanceSummary solved = SolveHarmonicBalance(model.problem, GuessAtOrder(model, 20), options);
+  ASSERT_TRUE(solved.usable()) << solved.FullReport();
+  const StabilitySummary s = Stability(model, *solved.solution);
+  ASSERT_TRUE(s.hill && s.floquet && s.floquet->ok) << s.hill_note << s.floquet_note;
+  ASSERT_TRUE(s.max_multiplier_difference.has_value());
+  EXPECT_LT(*s.max_multiplier_difference, 1e-8);
+  EXPECT_TRUE(s.agree());
+  EXPECT_EQ(s.verdict, StabilityVerdict::kStable);  // the only response below the bistable band
+  // Damping 2 zeta = 0.08 over a period 2 pi / W: |mu| = exp(-0.04 T) exactly.
+  for (const auto& mu : s.floquet->multipliers) EXPECT_NEAR(std::abs(mu), std::exp(-0.04 * 2 * M_PI / 1.2), 1e-9);
+  EXPECT_THROW(Stability(model, *solved.solution, StabilityOptions{2.0}), std::invalid_argument);
 }
 
 }  // namespace

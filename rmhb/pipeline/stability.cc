@@ -1,0 +1,107 @@
+#include "rmhb/pipeline/stability.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace rmhb {
+namespace {
+
+using Multipliers = std::vector<std::complex<double>>;
+
+// Largest distance between the two sets, each of `a` paired with the
+// nearest unused one of `b` (conjugate pairs come in either order).
+double MatchedDifference(const Multipliers& a, const Multipliers& b) {
+  std::vector<bool> used(b.size(), false);
+  double worst = 0;
+  for (const auto& mu : a) {
+    int best = -1;
+    for (size_t j = 0; j < b.size(); ++j)
+      if (!used[j] && (best < 0 || std::abs(b[j] - mu) < std::abs(b[best] - mu))) best = int(j);
+    if (best < 0) break;
+    used[best] = true;
+    worst = std::max(worst, std::abs(b[best] - mu));
+  }
+  return worst;
+}
+
+void HillPart(const Model& model, const HarmonicSolution& solution, const StabilityOptions& o, StabilitySummary* s) {
+  try {
+    s->hill = HillStability(model.problem, solution);
+    s->hill_verdict = MultiplierVerdict(s->hill->multipliers, s->hill->trivial, o.neutral_band);
+  } catch (const std::invalid_argument& e) {
+    s->hill_note = std::string("Hill's method refused: ") + e.what();
+  }
+}
+
+void FloquetPart(const Model& model, const HarmonicSolution& solution, const StabilityOptions& o,
+                 StabilitySummary* s) {
+  if (!model.original) {
+    s->floquet_note = "no monodromy matrix: " +
+                      (model.original_dae ? std::string("the original system is a DAE") : model.original_error);
+    return;
+  }
+  integrators::FloquetOptions options;
+  options.autonomous = model.problem.num_unknown_frequencies() > 0;
+  if (model.stiff) options.integrator.method = integrators::IntegratorOptions::Method::kBdf;
+  const double w = solution.frequencies()[0];
+  s->floquet = integrators::FloquetMultipliers(model.original(solution.frequencies()), model.state(solution, 0.0),
+                                               0.0, 2 * M_PI / w, options);
+  s->floquet_integrator = model.stiff ? "CVODE BDF" : "CVODE Adams";
+  if (s->floquet->ok)
+    s->floquet_verdict = MultiplierVerdict(s->floquet->multipliers, s->floquet->trivial, o.neutral_band);
+}
+
+}  // namespace
+
+const char* ToString(StabilityVerdict verdict) {
+  switch (verdict) {
+    case StabilityVerdict::kStable: return "stable";
+    case StabilityVerdict::kUnstable: return "unstable";
+    case StabilityVerdict::kNeutral: return "neutral";
+    case StabilityVerdict::kUnknown: return "unknown";
+  }
+  return "unknown";
+}
+
+std::string StabilityOptions::IsValid() const {
+  return neutral_band >= 0 && neutral_band < 1 ? "" : "neutral_band must be in [0, 1)";
+}
+
+StabilityVerdict MultiplierVerdict(const Multipliers& mu, int trivial, double band) {
+  double largest = 0;
+  for (size_t i = 0; i < mu.size(); ++i)
+    if (static_cast<int>(i) != trivial) largest = std::max(largest, std::abs(mu[i]));
+  return largest < 1 - band ? StabilityVerdict::kStable
+         : largest > 1 + band ? StabilityVerdict::kUnstable
+                              : StabilityVerdict::kNeutral;
+}
+
+StabilitySummary Stability(const Model& model, const HarmonicSolution& solution, const StabilityOptions& options) {
+  if (const std::string error = options.IsValid(); !error.empty())
+    throw std::invalid_argument("stability: " + error);
+  StabilitySummary s;
+  if (solution.frequencies().size() != 1) {
+    s.hill_note = s.floquet_note =
+        "quasi-periodic solution: no period, so neither Hill's method (one base frequency) nor a monodromy "
+        "matrix applies";
+    return s;
+  }
+  HillPart(model, solution, options, &s);
+  FloquetPart(model, solution, options, &s);
+  const bool floquet_ok = s.floquet && s.floquet->ok;
+  if (s.hill && floquet_ok) s.max_multiplier_difference = MatchedDifference(s.hill->multipliers, s.floquet->multipliers);
+  s.verdict = floquet_ok ? s.floquet_verdict : s.hill ? s.hill_verdict : StabilityVerdict::kUnknown;
+  return s;
+}
+
+std::string StabilitySummary::BriefReport() const {
+  std::ostringstream out;
+  out << "stability: " << ToString(verdict) << " (Hill " << ToString(hill_verdict) << ", monodromy "
+      << ToString(floquet_verdict);
+  if (max_multiplier_difference) out << ", multipliers agree to " << *max_multiplier_difference;
+  out << ")\n";
+  return out.str();
+}
+
+}  // namespace rmhb

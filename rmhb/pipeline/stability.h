@@ -1,0 +1,60 @@
+#ifndef RMHB_PIPELINE_STABILITY_H_
+#define RMHB_PIPELINE_STABILITY_H_
+
+// The stability of a periodic solution two independent ways:
+//   StabilitySummary s = Stability(model, solution);
+// Hill's method on the harmonic balance linearisation (rmhb/hill_stability.h)
+// and the Floquet multipliers of the CVODE monodromy matrix of the original
+// equations (integrators/floquet.h), matched pairwise. The verdict is the
+// monodromy's when it ran (it does not depend on the truncation), else
+// Hill's. Where one does not apply (Hill: pinned auxiliaries, several base
+// frequencies; monodromy: no original ODE) its note says why.
+
+#include <complex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "integrators/floquet.h"
+#include "rmhb/harmonic_solution.h"
+#include "rmhb/hill_stability.h"
+#include "rmhb/pipeline/model.h"
+
+namespace rmhb {
+
+enum class StabilityVerdict { kStable, kUnstable, kNeutral, kUnknown };
+const char* ToString(StabilityVerdict verdict);  // "stable", "unstable", "neutral", "unknown"
+
+struct StabilityOptions {
+  // Within this of the unit circle a multiplier is neither growth nor decay
+  // that a truncated (Hill) or tolerance-limited (CVODE) computation can
+  // decide: a conservative orbit's multipliers sit there (neutral).
+  double neutral_band = 1e-6;
+  std::string IsValid() const;
+};
+
+struct StabilitySummary {
+  std::optional<HillStabilityReport> hill;
+  std::string hill_note;  // why there is no Hill result
+  StabilityVerdict hill_verdict = StabilityVerdict::kUnknown;
+  std::optional<integrators::FloquetReport> floquet;
+  std::string floquet_note;  // why there is no monodromy matrix
+  std::string floquet_integrator;
+  StabilityVerdict floquet_verdict = StabilityVerdict::kUnknown;
+  // Both ran: the largest distance between matched multipliers.
+  std::optional<double> max_multiplier_difference;
+  StabilityVerdict verdict = StabilityVerdict::kUnknown;
+
+  bool agree() const { return hill_verdict == floquet_verdict; }
+  std::string BriefReport() const;
+};
+
+StabilitySummary Stability(const Model& model, const HarmonicSolution& solution, const StabilityOptions& options = {});
+
+// The verdict of a set of multipliers, the trivial one (index, or -1) left out.
+StabilityVerdict MultiplierVerdict(const std::vector<std::complex<double>>& multipliers, int trivial,
+                                   double neutral_band);
+
+}  // namespace rmhb
+
+#endif  // RMHB_PIPELINE_STABILITY_H_
