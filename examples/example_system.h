@@ -16,6 +16,7 @@
 #include <Eigen/Dense>
 
 #include "rmhb/collocation_residual.h"
+#include "rmhb/pipeline/reference.h"
 #include "rmhb/harmonic_solution.h"
 
 namespace rmhb::examples {
@@ -42,16 +43,8 @@ struct OriginalOde {
   int dimension() const { return static_cast<int>(names.size()); }
 };
 
-struct Reference {
-  static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
-  double frequency = kNone;  // exact angular frequency
-  double amplitude = kNone;  // exact max |z| of variable `amplitude_variable`
-  std::string amplitude_variable;
-  std::function<double(double t)> solution;  // exact first variable, if known
-  std::string source;
-  bool has_frequency() const { return frequency == frequency; }
-  bool has_amplitude() const { return amplitude == amplitude; }
-};
+// The exact answers of an example (rmhb/pipeline/reference.h).
+using Reference = ExactReference;
 
 struct ExampleSetup {
   HarmonicBalanceProblem problem;

@@ -239,20 +239,11 @@ int RunSolve(const SolveArgs& a) {
     out["frequencies"] = freqs;
   }
   json reference = json::object();
-  if (converged && source.reference.has_frequency())
-    reference["frequency_error"] = Number(sol.frequencies()[0] - source.reference.frequency);
-  if (converged && source.reference.has_amplitude())
-    reference["amplitude_error"] =
-        Number(sol.Amplitude(sol.IndexOf(source.reference.amplitude_variable)) -
-               source.reference.amplitude);
-  if (converged && source.reference.solution) {
-    const double T = 2 * M_PI / source.reference.frequency;
-    double worst = 0;
-    for (int i = 0; i <= 2000; ++i) {
-      const double t = T * i / 2000;
-      worst = std::max(worst, std::abs(sol.Value(0, t) - source.reference.solution(t)));
-    }
-    reference["max_error"] = Number(worst);
+  if (converged && !source.reference.empty()) {
+    const ReferenceErrors e = ErrorsAgainst(source.reference, sol);
+    if (source.reference.has_frequency()) reference["frequency_error"] = Number(e.frequency);
+    if (source.reference.has_amplitude()) reference["amplitude_error"] = Number(e.amplitude);
+    if (source.reference.solution) reference["max_error"] = Number(e.max_error);
   }
   if (!reference.empty()) {
     reference["source"] = source.reference.source;

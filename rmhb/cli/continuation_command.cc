@@ -122,11 +122,9 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
     const ProblemSource source = LoadSolveProblem(solve.settings, {{range.name, p.parameter}});
     if (source.problem.definitions)
       r.definitions = CheckDefinitions(p.solution, source.problem.definitions, summary.samples);
-    if (source.reference.has_frequency())
-      r.frequency_error = p.solution.frequencies()[0] - source.reference.frequency;
-    if (source.reference.has_amplitude())
-      r.amplitude_error = p.solution.Amplitude(p.solution.IndexOf(source.reference.amplitude_variable)) -
-                          source.reference.amplitude;
+    const ReferenceErrors errors = ErrorsAgainst(source.reference, p.solution);
+    r.frequency_error = errors.frequency;
+    r.amplitude_error = errors.amplitude;
     if (solve.validate) {
       const auto& w = p.solution.frequencies();
       const double period = 2 * M_PI / *std::min_element(w.begin(), w.end());

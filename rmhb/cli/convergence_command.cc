@@ -153,7 +153,7 @@ struct Column {
 
 // Which error the table shows: the strongest the reference allows.
 std::string ErrorMeasure(const ProblemSource& source, const std::string& first_variable) {
-  const examples::Reference& ref = source.reference;
+  const ExactReference& ref = source.reference;
   if (ref.solution) return "max over one period of |" + first_variable + "(t) - exact|";
   if (ref.has_amplitude()) return "|amplitude of " + ref.amplitude_variable + " - exact|";
   if (ref.has_frequency()) return "|w - exact|";
@@ -163,18 +163,13 @@ std::string ErrorMeasure(const ProblemSource& source, const std::string& first_v
 }
 
 void Measure(const ProblemSource& source, const HarmonicSolution& sol, const StateOf& state, Cell* cell) {
-  const examples::Reference& ref = source.reference;
-  if (ref.has_frequency()) cell->frequency_error = std::abs(sol.frequencies()[0] - ref.frequency);
-  if (ref.has_amplitude()) {
-    const int j = sol.IndexOf(ref.amplitude_variable);
-    if (j >= 0) cell->amplitude_error = std::abs(sol.Amplitude(j) - ref.amplitude);
-  }
+  const ExactReference& ref = source.reference;
+  const ReferenceErrors errors = ErrorsAgainst(ref, sol);
+  if (ref.has_frequency()) cell->frequency_error = std::abs(errors.frequency);
+  if (ref.has_amplitude() && sol.IndexOf(ref.amplitude_variable) >= 0) cell->amplitude_error = std::abs(errors.amplitude);
   if (ref.solution) {
-    const double T = 2 * M_PI / ref.frequency;
-    double worst = 0;
-    for (int i = 0; i <= 2000; ++i) worst = std::max(worst, std::abs(sol.Value(0, T * i / 2000) - ref.solution(T * i / 2000)));
-    cell->max_error = worst;
-    cell->error = worst;
+    cell->max_error = errors.max_error;
+    cell->error = errors.max_error;
   } else if (ref.has_amplitude()) {
     cell->error = cell->amplitude_error;
   } else if (ref.has_frequency()) {

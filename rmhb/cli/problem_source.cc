@@ -51,7 +51,7 @@ ProblemSource FromExample(const std::string& name, const std::map<std::string, d
 }  // namespace
 
 ProblemSource LoadProblem(const std::string& model, const std::map<std::string, double>& overrides) {
-  return LooksLikeFile(model) ? ProblemSource(LoadModel(model, overrides)) : FromExample(model, overrides);
+  return LooksLikeFile(model) ? LoadModel(model, overrides) : FromExample(model, overrides);
 }
 
 }  // namespace rmhb::cli

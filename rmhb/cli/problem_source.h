@@ -19,13 +19,9 @@
 
 namespace rmhb::cli {
 
-// A model (rmhb/pipeline/model.h) and, for a built-in example, its exact
-// reference.
-struct ProblemSource : Model {
-  ProblemSource() = default;
-  explicit ProblemSource(Model model) : Model(std::move(model)) {}
-  examples::Reference reference;
-};
+// A model (rmhb/pipeline/model.h): from a file, or a built-in example with
+// its exact reference.
+using ProblemSource = Model;
 
 // A path (contains '/' or ends in .yaml/.yml, or names an existing file) is
 // a model file; anything else an example name. Throws std::invalid_argument

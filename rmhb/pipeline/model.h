@@ -24,6 +24,7 @@
 #include "rmhb/harmonic_solution.h"
 #include "rmhb/model/model_definition.h"
 #include "rmhb/model/original_system.h"
+#include "rmhb/pipeline/reference.h"
 #include "rmhb/seeding/identified_guess.h"
 
 namespace rmhb {
@@ -65,6 +66,8 @@ struct Model {
   // Taylor-expanded system.
   std::shared_ptr<const model::ModelDefinition> definition;
   model::ParameterValues overrides;
+  // Exact answers, when the model has them (the bundled examples).
+  ExactReference reference;
 };
 
 // A model file with parameter overrides. Throws model::ModelError
