@@ -261,13 +261,13 @@ bool IdentificationOptions::Validate(std::string* why) const {
 
 const char* ToString(IdentificationStatus status) {
   switch (status) {
-    case IdentificationStatus::kSuccess: return "SUCCESS";
-    case IdentificationStatus::kUnexplainedComponents: return "UNEXPLAINED_COMPONENTS";
-    case IdentificationStatus::kNoConvergence: return "NO_CONVERGENCE";
-    case IdentificationStatus::kNoComponents: return "NO_COMPONENTS";
-    case IdentificationStatus::kInvalidInput: return "INVALID_INPUT";
+    case IdentificationStatus::kSuccess: return "success";
+    case IdentificationStatus::kUnexplainedComponents: return "unexplained_components";
+    case IdentificationStatus::kNoConvergence: return "no_convergence";
+    case IdentificationStatus::kNoComponents: return "no_components";
+    case IdentificationStatus::kInvalidInput: return "invalid_input";
   }
-  return "UNKNOWN";
+  return "unknown";
 }
 
 bool IdentifyFrequencies(const IdentificationOptions& options, const Signal& signal,

@@ -139,7 +139,7 @@ TEST(Cli, IdentifyFindsTheBasesOfAUserSignal) {
   }
   fclose(f);
   const auto j = Json("identify --signal " + path + " --json");
-  EXPECT_EQ(j["status"], "SUCCESS") << j.dump(1);
+  EXPECT_EQ(j["status"], "success") << j.dump(1);
   ASSERT_EQ(j["bases"].size(), 2u);
   // Any unimodular basis of the same lattice is right ({w1, 2 w1 - w2} is a
   // natural one here): every line must be found, exactly, with a label that
@@ -179,7 +179,7 @@ TEST(Cli, IdentifyCutsAUserSignalByTransientAndTEnd) {
   fclose(f);
   const auto j = Json("identify --signal " + path + " --transient 200 --t-end 1800 --json");
   EXPECT_EQ(j["samples"], 16000);  // t in [200, 1800)
-  EXPECT_EQ(j["status"], "SUCCESS") << j.dump(1);
+  EXPECT_EQ(j["status"], "success") << j.dump(1);
   ASSERT_EQ(j["bases"].size(), 1u);
   EXPECT_NEAR(j["bases"][0]["frequency"].get<double>(), w, 1e-12);
   const CliRun too_short = Cli("identify --signal " + path + " --transient 1999");
