@@ -26,6 +26,7 @@
 #include <Eigen/Dense>
 
 #include "rmhb/definition_check.h"
+#include "rmhb/harmonic_balance_problem.h"
 #include "rmhb/harmonic_basis.h"
 #include "rmhb/nonlinear_solver.h"
 #include "rmhb/point_condition.h"
@@ -35,24 +36,6 @@
 #include "rmhb/symmetry.h"
 
 namespace rmhb {
-
-struct HarmonicBalanceProblem {
-  PolynomialSystem system;
-  // Base frequencies: their values, or initial guesses where unknown.
-  std::vector<double> frequencies;
-  std::vector<bool> unknown_frequency;  // empty: all known
-  std::vector<PointCondition> conditions;
-  // Symmetries the solution is asserted to have (see rmhb/symmetry.h).
-  std::vector<HalfTurnSymmetry> symmetries = {};
-  // The variables from their definitions (recast auxiliaries from the user
-  // variables), when known: SolveHarmonicBalance then checks a converged
-  // solution against them (rmhb/definition_check.h).
-  VariableDefinitions definitions = {};
-
-  int num_unknown_frequencies() const;
-  // Throws std::invalid_argument naming what is wrong.
-  void Validate() const;
-};
 
 class CollocationResidual : public NonlinearProblem {
  public:

@@ -1,3 +1,4 @@
+#include "rmhb/collocation_residual.h"
 #include "rmhb/harmonic_balance.h"
 
 #include <algorithm>

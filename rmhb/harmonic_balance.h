@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "rmhb/collocation_residual.h"
 #include "rmhb/definition_check.h"
+#include "rmhb/harmonic_balance_problem.h"
 #include "rmhb/harmonic_basis.h"
 #include "rmhb/harmonic_solution.h"
 #include "rmhb/nonlinear_solver.h"

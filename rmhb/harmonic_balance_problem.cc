@@ -1,0 +1,29 @@
+#include "rmhb/harmonic_balance_problem.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace rmhb {
+
+int HarmonicBalanceProblem::num_unknown_frequencies() const {
+  int n = 0;
+  for (bool u : unknown_frequency) n += u;
+  return n;
+}
+
+void HarmonicBalanceProblem::Validate() const {
+  system.Validate();
+  if (frequencies.empty()) throw std::invalid_argument("no base frequency given");
+  for (double w : frequencies)
+    if (!std::isfinite(w) || w <= 0)
+      throw std::invalid_argument("base frequencies must be finite and > 0, got " +
+                                  std::to_string(w));
+  if (!unknown_frequency.empty() && unknown_frequency.size() != frequencies.size())
+    throw std::invalid_argument("unknown_frequency must have one flag per base frequency");
+  for (const auto& symmetry : symmetries)
+    for (int i = 0; i < system.num_equations(); ++i)
+      symmetry.EquationSign(system, i, static_cast<int>(frequencies.size()));
+}
+
+}  // namespace rmhb
