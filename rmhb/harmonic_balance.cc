@@ -1,4 +1,3 @@
-#include "rmhb/collocation_residual.h"
 #include "rmhb/harmonic_balance.h"
 
 #include <algorithm>
@@ -7,6 +6,8 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+
+#include "rmhb/collocation_residual.h"
 
 namespace rmhb {
 
