@@ -21,6 +21,7 @@
 #include "rmhb/model/recast.h"
 #include "rmhb/monte_carlo.h"
 #include "rmhb/pipeline/analyze.h"
+#include "rmhb/pipeline/convergence.h"
 #include "rmhb/pipeline/model.h"
 #include "rmhb/pipeline/stability.h"
 #include "rmhb/seeding/identified_guess.h"
