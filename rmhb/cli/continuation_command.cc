@@ -11,7 +11,9 @@
 #include <optional>
 
 #include "integrators/trajectory_validation.h"
+#include "rmhb/cli/branch_plot.h"
 #include "rmhb/cli/exit_codes.h"
+#include "rmhb/cli/plot.h"
 #include "rmhb/cli/solve_setup.h"
 #include "rmhb/continuation.h"
 #include "rmhb/definition_check.h"
@@ -81,6 +83,9 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
   app->add_flag("--natural", a->natural,
                 "Continuation: natural-parameter steps (stop at a fold) instead of "
                 "pseudo-arclength (passes folds)");
+  app->add_option("--plot-var", a->plot_var,
+                  "Continuation with --plot: draw the amplitude max|VAR(t)| of this variable (default: the "
+                  "first) or, with 'frequency', the first base frequency against the parameter");
   app->add_flag("--no-stability", a->no_stability,
                 "Continuation: skip Hill's method per point (one eigenproblem of the Jacobian's "
                 "size each; computed by default up to 200 unknowns)");
@@ -89,6 +94,8 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
 int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   const Range range = ParseRange(a.range);
   if (!solve.eval.empty()) throw std::invalid_argument("--eval does not apply to --continue");
+  if (!solve.plot.empty()) CheckPlotRequest(solve.plot);
+  if (!a.plot_var.empty() && solve.plot.empty()) throw std::invalid_argument("--plot-var needs --plot");
   // Both ends must be values the model accepts (bad input, not a failed step).
   PreparedSolve prepared = PrepareSolve(solve.settings, {{range.name, range.from}});
   try {
@@ -184,6 +191,15 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
     }
   }
 
+  std::string plot_data;
+  if (!solve.plot.empty() && !summary.points.empty()) {
+    const std::string var = a.plot_var.empty() ? summary.points[0].solution.variables()[0].name : a.plot_var;
+    const std::vector<BranchRow> rows = BranchRows(summary, var);
+    plot_data = solve.plot + ".dat";
+    WriteBranchData(rows, range.name, var, plot_data);
+    PlotBranch(rows, prepared.source.name + ": " + prepared.source.equation, range.name, var, solve.plot);
+  }
+
   if (solve.json) {
     json out = {{"model", solve.settings.model},
                 {"parameter", range.name},
@@ -202,6 +218,7 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
                 {"seconds", summary.seconds},
                 {"branch", branch}};
     if (!solve.csv.empty()) out["csv"] = solve.csv;
+    if (!plot_data.empty()) out["plot"] = solve.plot, out["plot_data"] = plot_data;
     std::cout << out.dump(1) << "\n";
   } else {
     std::printf("%s\n", summary.BriefReport().c_str());

@@ -21,9 +21,10 @@ struct ContinuationArgs {
   double max_step = 0;   // 0: |b - a| / 10
   bool natural = false;  // natural-parameter instead of pseudo-arclength
   bool no_stability = false;
+  std::string plot_var;  // with --plot: a variable's amplitude (default the first) or "frequency"
 };
 
-// Adds --continue, --steps, --max-step, --natural and --no-stability to `solve`.
+// Adds --continue, --steps, --max-step, --natural, --no-stability and --plot-var to `solve`.
 void AddContinuationOptions(CLI::App* solve, ContinuationArgs* args);
 // Runs the continuation with the solve command's settings and output flags.
 int RunContinuation(const SolveArgs& solve, const ContinuationArgs& args);

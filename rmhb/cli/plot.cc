@@ -87,11 +87,18 @@ std::string Script(const Plot& plot, const std::string& file, const std::string&
       }
       if (points == 0) continue;  // gnuplot refuses an empty data file
       if (!plots.empty()) plots += ", \\\n  ";
-      const std::string title = " title " + Quote(series.title);
+      // Line options first, the title last: gnuplot refuses options after it.
+      const std::string title = (series.dash != 1 ? " dt " + std::to_string(series.dash) : std::string()) +
+                                (series.color.empty() ? "" : " lc rgb " + Quote(series.color)) +
+                                (series.in_key ? " title " + Quote(series.title) : std::string(" notitle"));
       switch (series.style) {
         case PlotSeries::Style::kLines: plots += Quote(data) + " using 1:2 with lines lw 2" + title; break;
         case PlotSeries::Style::kLinesPoints: plots += Quote(data) + " using 1:2 with linespoints lw 2 pt 7" + title; break;
-        case PlotSeries::Style::kPoints: plots += Quote(data) + " using 1:2 with points pt 7" + title; break;
+        case PlotSeries::Style::kPoints:
+          plots += Quote(data) + " using 1:2 with points pt 7 ps 1.5" + title;
+          if (!series.labels.empty())
+            plots += ", \\\n  " + Quote(data) + " using 1:2:3 with labels offset 0,1 font 'sans,9' notitle";
+          break;
         case PlotSeries::Style::kImpulses:
           plots += Quote(data) + " using 1:2 with impulses lw 2" + title;
           if (!series.labels.empty())

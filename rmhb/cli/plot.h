@@ -16,8 +16,11 @@ struct PlotSeries {
   std::string title;  // legend entry
   std::vector<double> x, y;
   enum class Style { kLines, kLinesPoints, kPoints, kImpulses } style = Style::kLines;
-  // With kImpulses: a text label drawn above each point (e.g. "(1,-2)").
+  // With kImpulses or kPoints: a text label drawn above each point (e.g. "(1,-2)").
   std::vector<std::string> labels;
+  int dash = 1;       // gnuplot dashtype: 1 solid, 2 dashed, 3 dotted
+  std::string color = {};  // e.g. "#1f77b4"; empty: gnuplot's sequence
+  bool in_key = true; // false: no legend entry (a later segment of a line already titled)
 };
 
 struct PlotPanel {

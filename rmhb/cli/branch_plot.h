@@ -1,0 +1,37 @@
+#ifndef RMHB_CLI_BRANCH_PLOT_H_
+#define RMHB_CLI_BRANCH_PLOT_H_
+
+// The frequency-response picture of `solve --continue ... --plot FILE`: a
+// value of each point (the amplitude max|x(t)| of a variable, or the first
+// base frequency) against the parameter; stable parts solid, unstable
+// dashed, neutral or unknown dotted; folds marked and labelled. The data
+// drawn go to FILE.dat as well (parameter, value, stability, fold), so a
+// script or a test can read exactly what the figure shows.
+
+#include <string>
+#include <vector>
+
+#include "rmhb/continuation.h"
+
+namespace rmhb::cli {
+
+struct BranchRow {
+  double parameter = 0, value = 0;
+  std::string stability;  // stable, unstable, neutral, unknown
+  bool fold = false;
+};
+
+// What is plotted of a point: "frequency" or a variable's name (its
+// amplitude). Throws std::invalid_argument naming the variables otherwise.
+std::vector<BranchRow> BranchRows(const ContinuationSummary& summary, const std::string& plot_var);
+
+// FILE.dat: a header line, then one row per point.
+void WriteBranchData(const std::vector<BranchRow>& rows, const std::string& parameter, const std::string& plot_var,
+                     const std::string& file);
+// The figure (PNG or SVG by extension); throws like WritePlot.
+void PlotBranch(const std::vector<BranchRow>& rows, const std::string& title, const std::string& parameter,
+                const std::string& plot_var, const std::string& file);
+
+}  // namespace rmhb::cli
+
+#endif  // RMHB_CLI_BRANCH_PLOT_H_
