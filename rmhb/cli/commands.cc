@@ -193,6 +193,8 @@ int RunRecast(const RecastArgs& a) {
 
 int RunSolve(const SolveArgs& a) {
   if (!a.plot.empty()) CheckPlotRequest(a.plot);
+  if (!a.csv.empty() && a.eval.empty())
+    throw std::invalid_argument("--csv needs --eval t0:dt:t1 (or --continue, whose branch it writes)");
   PreparedSolve prepared = PrepareSolve(a.settings);
   const ProblemSource& source = prepared.source;
   const HarmonicBalanceProblem& problem = source.problem;
@@ -332,19 +334,20 @@ int RunSolve(const SolveArgs& a) {
         if (reference.contains("max_error"))
           std::printf("error        max over one period %.3e\n", reference["max_error"].get<double>());
       }
-      if (out.contains("stability")) PrintStability(out["stability"]);
-      if (!validation.is_null() && validation["max_error"].is_null())
-        std::printf("validation   failed: %s integration did not finish: %s (%.1f ms)\n",
-                    validation["integrator"].get<std::string>().c_str(),
-                    validation["message"].get<std::string>().c_str(),
-                    validation["seconds"].get<double>() * 1e3);
-      else if (!validation.is_null())
-        std::printf("validation   %s: max error %.3e over %d (longest) period(s) against %s (%.1f ms)\n",
-                    validation["status"].get<std::string>().c_str(),
-                    validation["max_error"].get<double>(), a.validate_periods,
-                    validation["integrator"].get<std::string>().c_str(),
-                    validation["seconds"].get<double>() * 1e3);
     }
+    // Asked for by name: printed with --quiet too.
+    if (out.contains("stability")) PrintStability(out["stability"]);
+    if (!validation.is_null() && validation["max_error"].is_null())
+      std::printf("validation   failed: %s integration did not finish: %s (%.1f ms)\n",
+                  validation["integrator"].get<std::string>().c_str(),
+                  validation["message"].get<std::string>().c_str(),
+                  validation["seconds"].get<double>() * 1e3);
+    else if (!validation.is_null())
+      std::printf("validation   %s: max error %.3e over %d (longest) period(s) against %s (%.1f ms)\n",
+                  validation["status"].get<std::string>().c_str(),
+                  validation["max_error"].get<double>(), a.validate_periods,
+                  validation["integrator"].get<std::string>().c_str(),
+                  validation["seconds"].get<double>() * 1e3);
   }
   if (!converged) {
     if (!a.json)

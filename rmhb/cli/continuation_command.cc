@@ -96,6 +96,9 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   if (!solve.eval.empty()) throw std::invalid_argument("--eval does not apply to --continue");
   if (!solve.plot.empty()) CheckPlotRequest(solve.plot);
   if (!a.plot_var.empty() && solve.plot.empty()) throw std::invalid_argument("--plot-var needs --plot");
+  if (solve.stability && a.no_stability)
+    throw std::invalid_argument("--stability and --no-stability contradict each other (continuation reports "
+                                "stability at every point by default)");
   // Both ends must be values the model accepts (bad input, not a failed step).
   PreparedSolve prepared = PrepareSolve(solve.settings, {{range.name, range.from}});
   try {
@@ -224,7 +227,9 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
     std::printf("%s\n", summary.BriefReport().c_str());
     if (!summary.message.empty()) std::printf("%s\n", summary.message.c_str());
     if (!summary.stability_note.empty()) std::printf("stability unknown: %s\n", summary.stability_note.c_str());
-    if (!solve.quiet) {
+    // --quiet hides the table unless it holds what --validate or
+    // --stability asked for.
+    if (!solve.quiet || solve.validate || solve.stability) {
       std::printf("\n%-22s %-20s %-20s %-9s %-9s%s%s\n", range.name.c_str(), "frequency",
                   "amplitude max|x|", "residual", "stability", solve.validate ? " validation" : "",
                   has_reference ? " exact error" : "");
