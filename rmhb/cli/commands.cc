@@ -23,33 +23,6 @@
 namespace rmhb::cli {
 using nlohmann::json;
 
-std::pair<std::string, double> ParseAssignment(const std::string& text) {
-  const auto eq = text.find('=');
-  if (eq == std::string::npos || eq == 0)
-    throw std::invalid_argument("--set expects name=value, got '" + text + "'");
-  const std::string name = text.substr(0, eq), value = text.substr(eq + 1);
-  size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != value.size())
-    throw std::invalid_argument("--set " + name + ": '" + value + "' is not a number");
-  if (!std::isfinite(v)) throw std::invalid_argument("--set " + name + ": value must be finite");
-  return {name, v};
-}
-
-std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments) {
-  std::map<std::string, double> values;
-  for (const auto& s : assignments) {
-    auto [name, v] = ParseAssignment(s);
-    values[name] = v;
-  }
-  return values;
-}
-
 void AddSolveOptions(CLI::App* app, SolveArgs* a) {
   AddSolveSettings(app, &a->settings);
   app->add_option("--eval", a->eval, "Evaluate the solution at t0:dt:t1 (needs --csv)");

@@ -90,11 +90,7 @@ int RunSimulate(const SimulateArgs& a) {
   io.absolute_tolerance = a.atol;
   // A model with algebraic equations goes to IDA, which makes y'(0) and the
   // algebraic part of the initial state consistent (IDACalcIC) first.
-  const integrators::IntegrationResult r =
-      source.original_dae
-          ? integrators::IntegrateDae(source.original_dae(w), source.initial_state,
-                                      Eigen::VectorXd::Zero(source.initial_state.size()), 0.0, times, io)
-          : integrators::IntegrateOde(source.original(w), source.initial_state, 0.0, times, io);
+  const integrators::IntegrationResult r = SimulateOriginal(source, w, source.initial_state, times, io);
 
   if (!a.csv.empty()) {
     std::ofstream out(a.csv);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "integrators/cvode_integrator.h"
+#include "integrators/ida_integrator.h"
 #include "rmhb/model/recast.h"
 
 namespace rmhb {
@@ -92,6 +94,15 @@ frequency_id::Signal RecordOriginal(const Model& source, const std::vector<doubl
   RequireOriginal(source);
   return source.original_dae ? seeding::RecordTrajectory(source.original_dae(w), y0, record, source.state_names)
                              : seeding::RecordTrajectory(source.original(w), y0, record, source.state_names);
+}
+
+integrators::IntegrationResult SimulateOriginal(const Model& model, const std::vector<double>& w,
+                                                const Eigen::VectorXd& y0, const std::vector<double>& times,
+                                                const integrators::IntegratorOptions& options) {
+  RequireOriginal(model);
+  return model.original_dae
+             ? integrators::IntegrateDae(model.original_dae(w), y0, Eigen::VectorXd::Zero(y0.size()), 0.0, times, options)
+             : integrators::IntegrateOde(model.original(w), y0, 0.0, times, options);
 }
 
 integrators::ValidationReport ValidateOriginal(const Model& source, const HarmonicSolution& solution, double t_end,

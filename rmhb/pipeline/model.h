@@ -18,6 +18,8 @@
 #include <Eigen/Dense>
 
 #include "frequency_id/signal.h"
+#include "integrators/integration_result.h"
+#include "integrators/integrator_options.h"
 #include "integrators/ode_system.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/collocation_residual.h"
@@ -84,6 +86,13 @@ HarmonicSolution GuessAtOrder(const Model& model, int order);
 const char* OriginalIntegrator(const Model& model);  // "IDA BDF", "CVODE BDF", "CVODE Adams"
 frequency_id::Signal RecordOriginal(const Model& model, const std::vector<double>& w, const Eigen::VectorXd& y0,
                                     const seeding::RecordOptions& record);
+// The original equations integrated from (0, y0) and sampled at `times`:
+// IDA for a DAE (which makes y'(0) and the algebraic part of y0 consistent
+// first), else CVODE with `options` (their method as given).
+integrators::IntegrationResult SimulateOriginal(const Model& model, const std::vector<double>& w,
+                                                const Eigen::VectorXd& y0, const std::vector<double>& times,
+                                                const integrators::IntegratorOptions& options);
+
 // The solution's state against a trajectory of the original equations from
 // it at t = 0, over [0, t_end] at `samples` times (integrators/
 // trajectory_validation.h). `state`: another map from a solution to the

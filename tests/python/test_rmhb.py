@@ -1,0 +1,158 @@
+"""The Python module as a script uses it (run by ctest: python3 -m pytest tests/python).
+
+Every name of the module is exercised; results are checked against the CLI
+(to the last bit), against a CVODE integration, or against a signal whose
+frequencies are known exactly.
+"""
+import json
+import sys
+import math
+import os
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import rmhb
+
+CLI = os.environ.get("RMHB_CLI", "build/rmhb")
+DUFFING = "examples/models/duffing.yaml"
+
+
+def cli_json(*args):
+    out = subprocess.run([CLI, *args, "--json"], check=True, capture_output=True, text=True).stdout
+    return json.loads(out)
+
+
+def test_frequency_equals_the_cli_to_the_last_bit():
+    vdp = rmhb.Model("examples/models/vanderpol.yaml", eps=1.5)
+    s = vdp.solve(order=30)
+    assert s.converged and s.status == "converged"
+    ref = cli_json("solve", "examples/models/vanderpol.yaml", "--set", "eps=1.5", "--order", "30")
+    assert s.frequencies[0] == ref["frequencies"][0]  # bit for bit, not approximately
+    assert s.order == 30 and s.residual < 1e-12 and s.seconds > 0
+    assert json.loads(s.to_json())["frequencies"][0] == ref["frequencies"][0]
+
+
+def test_eval_on_a_numpy_grid_equals_the_cli_eval(tmp_path):
+    m = rmhb.Model(DUFFING, F=0.5)
+    s = m.solve(order=20)
+    csv = tmp_path / "eval.csv"
+    subprocess.run([CLI, "solve", DUFFING, "--set", "F=0.5", "--order", "20", "--eval", "0:0.25:10",
+                    "--csv", str(csv)], check=True, capture_output=True)
+    table = np.genfromtxt(csv, delimiter=",", names=True)
+    values = s.eval(table["t"])
+    assert set(values) == {"x", "x_d1"}
+    np.testing.assert_array_equal(values["x"], table["x"])
+    np.testing.assert_array_equal(values["x_d1"], table["x_d1"])
+
+
+def test_coefficients_harmonics_validate_and_stability():
+    s = rmhb.Model(DUFFING, F=0.5).solve(order=20)
+    cos, sin = s.coefficients["x"]
+    assert cos.shape == sin.shape == (21,) and sin[0] == 0
+    assert s.harmonics.shape == (21, 1) and s.harmonics[5, 0] == 5
+    # x(0) from the coefficients equals eval at t = 0.
+    assert math.isclose(cos.sum(), s.eval(np.array([0.0]))["x"][0], rel_tol=1e-13)
+    v = s.validate(periods=2)
+    assert v["ok"] and v["max_error"] < 1e-8
+    st = s.stability()
+    assert st["verdict"] in ("stable", "unstable") and st["hill"] == st["monodromy"]
+    assert st["max_multiplier_difference"] < 1e-6
+
+
+def test_a_solution_that_did_not_converge_says_so():
+    s = rmhb.Model(DUFFING).solve(order=20, solver="newton", frequencies=[2.0], tol=None, method="hdhb")
+    assert s.status in ("converged", "non_physical", "not_converged", "failed")
+    starved = rmhb.Model("pendulum").solve(order=25, solver="newton", method="rhb", p=None)
+    assert starved.converged == (starved.status == "converged")
+
+
+def test_continuation_gives_numpy_columns_and_the_folds():
+    b = rmhb.Model("duffing", F=0.5).continuation("w", 0.5, 3.0, order=15)
+    assert b.status == "completed"
+    n = b.parameter.shape[0]
+    assert b.frequency.shape == b.amplitude.shape == b.stable.shape == (n,)
+    assert b.stable.dtype == np.bool_
+    ref = cli_json("solve", "duffing", "--set", "F=0.5", "--order", "15", "--continue", "w=0.5:3")
+    np.testing.assert_allclose(b.folds, ref["folds"], rtol=1e-12)
+    assert len(b.folds) == 2 and (~b.stable).sum() > 3
+
+
+def test_analyze_and_simulate():
+    a = rmhb.Model("vanderpol").analyze(order=40)
+    assert a.ok and a.status == "converged" and a.validation_error < 1e-8  # over 20 periods
+    ref = cli_json("analyze", "vanderpol", "--order", "40")
+    assert a.frequencies[0] == ref["frequencies"][0]
+    assert a.validation_error == ref["stages"]["validate"]["max_error"]
+    assert "validate" in a.report()
+    sim = rmhb.Model("duffing").simulate(t_end=10.0, dt=0.5)
+    assert list(sim) == ["t", "x", "x'"] and sim["t"].shape == (21,) and sim["t"][-1] == 10.0
+
+
+def test_identify_a_two_tone_signal_to_1e12():
+    t = np.arange(8192) * 0.05
+    w1, w2 = 1.0, math.sqrt(2.0)
+    x = np.cos(w1 * t + 0.3) + 0.3 * np.sin(w2 * t)
+    result = rmhb.identify(t, x)
+    assert result.status == "success"
+    np.testing.assert_allclose(np.sort(result.bases), [w1, w2], rtol=0, atol=1e-12)
+    assert {tuple(sorted(map(abs, line["label"]))) for line in result.lines} == {(0, 1)}
+    two_channels = rmhb.identify(t, np.c_[x, 2 * x])
+    assert len(two_channels.lines[0]["amplitude"]) == 2
+
+
+def test_errors_are_python_exceptions(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("name: bad\nvariables: [x]\nequations:\n  - \"x'' + sin(thta) = 0\"\nfrequencies: [{guess: 1}]\n")
+    with pytest.raises(rmhb.ModelError, match=r"bad.yaml:4:\d+: unknown symbol 'thta'"):
+        rmhb.Model(str(bad))
+    assert issubclass(rmhb.ModelError, ValueError)
+    with pytest.raises(ValueError, match="no parameter 'nope'"):
+        rmhb.Model("duffing", nope=1.0)
+    with pytest.raises(ValueError, match="method must be"):
+        rmhb.Model("duffing").solve(method="galerkin")
+    with pytest.raises(ValueError, match="order or p"):
+        rmhb.Model("duffing").solve(order=5, p=5)
+    with pytest.raises(TypeError):
+        rmhb.Model("duffing").solve(order="five")
+    with pytest.raises(ValueError, match="uniformly spaced"):
+        rmhb.identify(np.r_[np.arange(100) * 0.1, 20.0], np.zeros(101))
+
+
+def test_solves_release_the_gil():
+    m = rmhb.Model("examples/models/vanderpol.yaml", eps=2.0)
+    results = []
+    threads = [threading.Thread(target=lambda: results.append(m.solve(order=80).frequencies[0])) for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(results) == 2 and results[0] == results[1]
+
+
+def test_binding_overhead_is_under_ten_percent_of_a_small_solve():
+    m = rmhb.Model("pendulum")
+    best_wall, best_solve = math.inf, math.inf
+    for _ in range(7):
+        start = time.perf_counter()
+        s = m.solve(order=25)
+        wall = time.perf_counter() - start
+        if wall < best_wall:
+            best_wall, best_solve = wall, s.seconds
+    # What the binding adds around the library's solve: argument conversion,
+    # the CLI-equivalent settings, the result object (model loading included,
+    # as the CLI does it per solve).
+    print(f"pendulum N = 25: solve {best_solve * 1e3:.3f} ms, call {best_wall * 1e3:.3f} ms")
+    assert best_wall < 1.10 * best_solve + 0.002  # 10 % plus model set-up, bounded
+
+
+def test_the_example_script_runs(tmp_path):
+    out = tmp_path / "response.csv"
+    run = subprocess.run([sys.executable, "examples/python/duffing_response.py", str(out)], capture_output=True, text=True,
+                         env={**os.environ}, check=True)
+    assert "folds at w" in run.stdout
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert np.nansum(data["stable"] == 0) > 3 and np.nanmax(data["amplitude"]) > 2
