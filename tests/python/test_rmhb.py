@@ -155,7 +155,7 @@ def test_binding_overhead_is_under_ten_percent_of_a_small_solve():
     # the CLI-equivalent settings, the result object (model loading included,
     # as the CLI does it per solve).
     print(f"pendulum N = 25: solve {best_solve * 1e3:.3f} ms, call {best_wall * 1e3:.3f} ms")
-    assert best_wall < 1.10 * best_solve + 0.002  # 10 % plus model set-up, bounded
+    assert best_wall < 1.10 * best_solve + 3e-4  # 10 %, plus 0.3 ms for timer noise
 
 
 def test_the_example_script_runs(tmp_path):
