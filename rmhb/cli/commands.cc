@@ -19,12 +19,18 @@
 #include "rmhb/cli/plot.h"
 #include "rmhb/cli/solve_stability.h"
 #include "rmhb/harmonic_balance.h"
+#include "rmhb/pipeline/start.h"
 
 namespace rmhb::cli {
 using nlohmann::json;
 
 void AddSolveOptions(CLI::App* app, SolveArgs* a) {
   AddSolveSettings(app, &a->settings);
+  app->add_option("--start", a->start,
+                  "auto (default): the model's guess, and when Newton does not reach a physical solution from "
+                  "it, a simulated start (forced models: integrate until the motion settles) or an identified "
+                  "one (unknown frequencies); guess: the model's guess only")
+      ->check(CLI::IsMember({"auto", "guess"}));
   app->add_option("--eval", a->eval, "Evaluate the solution at t0:dt:t1 (needs --csv)");
   app->add_option("--csv", a->csv, "CSV file for --eval: t and every variable, auxiliaries included");
   app->add_flag("--validate", a->validate,
@@ -174,7 +180,10 @@ int RunSolve(const SolveArgs& a) {
   const HarmonicBalanceOptions& options = prepared.options;
   const HarmonicSolution& guess = prepared.guess;
   const int bases = static_cast<int>(problem.frequencies.size());
-  const HarmonicBalanceSummary summary = SolveHarmonicBalance(problem, guess, options);
+  // The guess, else a simulated or identified start (rmhb/pipeline/start.h).
+  const StartedSolve started = a.start == "guess" ? StartedSolve{SolveHarmonicBalance(problem, guess, options), "guess", "", 0}
+                                                  : SolveFromAnyStart(source, guess, options);
+  const HarmonicBalanceSummary& summary = started.summary;
   const HarmonicSolution& sol = *summary.solution;
   const bool converged = summary.converged();
 
@@ -182,6 +191,8 @@ int RunSolve(const SolveArgs& a) {
   out["model"] = a.settings.model;
   out["status"] = !converged ? ToString(summary.solver.status) : summary.physical ? "converged" : "non_physical";
   out["message"] = summary.solver.message;
+  out["start"] = started.route;
+  if (!started.note.empty()) out["start_note"] = started.note;
   out["method"] = ToString(options.rule);
   out["solver"] = ToString(summary.solver.method);
   out["order"] = summary.order;
@@ -274,6 +285,8 @@ int RunSolve(const SolveArgs& a) {
       std::printf("residual     %.3e after %d iterations (%s)\n", summary.solver.final_residual,
                   summary.solver.iterations, ToString(summary.solver.method));
       std::printf("time         %.3f ms\n", summary.seconds * 1e3);
+      if (started.route != "guess" || !started.note.empty())
+        std::printf("start        %s%s%s\n", started.route.c_str(), started.note.empty() ? "" : "; ", started.note.c_str());
       if (converged) std::printf("physical     %s\n", PhysicalLine(summary).c_str());
       if (summary.truncation_estimate >= 0) {
         std::printf("order        %d %s --tol %g (orders", summary.order,

@@ -24,6 +24,7 @@ struct SolveArgs {
   std::string eval;         // "t0:dt:t1"
   std::string csv;          // file for --eval
   std::string plot;         // FILE.png|svg: response, error, phase portrait
+  std::string start = "auto";  // auto: the guess, then a simulated/identified start; guess: the guess only
 };
 
 struct RecastArgs {

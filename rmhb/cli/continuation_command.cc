@@ -95,6 +95,7 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   const Range range = ParseRange(a.range);
   if (!solve.eval.empty()) throw std::invalid_argument("--eval does not apply to --continue");
   if (!solve.plot.empty()) CheckPlotRequest(solve.plot);
+  if (solve.start != "auto") throw std::invalid_argument("--start applies to one solve, not to --continue");
   if (!a.plot_var.empty() && solve.plot.empty()) throw std::invalid_argument("--plot-var needs --plot");
   if (solve.stability && a.no_stability)
     throw std::invalid_argument("--stability and --no-stability contradict each other (continuation reports "

@@ -23,6 +23,7 @@
 #include "rmhb/model/model_error.h"
 #include "rmhb/pipeline/analyze.h"
 #include "rmhb/pipeline/stability.h"
+#include "rmhb/pipeline/start.h"
 #include "rmhb/version.h"
 
 namespace py = pybind11;
@@ -176,14 +177,18 @@ class Model {
   }
 
   Solution Solve(std::optional<int> order, std::optional<int> p, std::optional<double> tol, const std::string& method,
-                 const std::string& solver, const std::optional<std::vector<double>>& frequencies) const {
+                 const std::string& solver, const std::optional<std::vector<double>>& frequencies,
+                 const std::string& start) const {
+    if (start != "auto" && start != "guess") throw std::invalid_argument("start must be auto or guess, got '" + start + "'");
     const cli::SolveSettings settings = Settings(name_, parameters_, order, p, tol, method, solver, frequencies);
     if (settings.method != "rhb" && settings.method != "hdhb" && settings.method != "aft")
       throw std::invalid_argument("method must be rhb, hdhb or aft, got '" + method + "'");
     py::gil_scoped_release release;
     cli::PreparedSolve prepared = cli::PrepareSolve(settings);
     auto model = std::make_shared<const cli::ProblemSource>(std::move(prepared.source));
-    Solution out{model, SolveHarmonicBalance(model->problem, prepared.guess, prepared.options)};
+    // As `rmhb solve --start`: the guess, then a simulated or identified start.
+    Solution out{model, start == "guess" ? SolveHarmonicBalance(model->problem, prepared.guess, prepared.options)
+                                         : SolveFromAnyStart(*model, prepared.guess, prepared.options).summary};
     return out;
   }
 
@@ -359,7 +364,7 @@ PYBIND11_MODULE(rmhb, m) {
            "A model file or a bundled example; keyword arguments override its parameters")
       .def("solve", &Model::Solve, py::arg("order") = py::none(), py::arg("p") = py::none(),
            py::arg("tol") = py::none(), py::arg("method") = "rhb", py::arg("solver") = "auto",
-           py::arg("frequencies") = py::none())
+           py::arg("frequencies") = py::none(), py::arg("start") = "auto")
       .def("analyze", &Model::Analyze, py::arg("order") = py::none(), py::arg("t_end") = 0.0,
            py::arg("transient") = -1.0, py::arg("validate_periods") = 20,
            "Integrate, identify the frequencies, seed, solve and validate")

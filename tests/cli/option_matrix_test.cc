@@ -59,7 +59,7 @@ const std::map<std::string, std::string>& Samples() {
       {"--repeat", "2"}, {"--max-seconds", "10"}, {"--starts", "20"}, {"--range", "-1:1"}, {"--seed", "3"},
       {"--threads", "1"}, {"--reference-order", "24"}, {"--match-tolerance", "0.1"}, {"--no-floquet", ""},
       {"--grid", "F=0.5:1:2"}, {"--out", "{dir}/sweep.h5"}, {"--resume", ""}, {"--keep-journal", ""},
-      {"--log", "{dir}/sweep.log"}, {"--plot-value", "count"},
+      {"--log", "{dir}/sweep.log"}, {"--plot-value", "count"}, {"--start", "guess"},
   };
   return samples;
 }

@@ -32,7 +32,9 @@ TEST(PhysicalCli, PhysicalSolvesPassAndSayWhy) {
 
 // u^2 + v^2 = 1 solved by Tikhonov at beta = 0.99: the other root of the sqrt.
 TEST(PhysicalCli, WrongRootIsExitFive) {
-  const std::string args = "solve relativistic --set beta=0.99 --order 64 --solver tikhonov --scaling none";
+  // --start guess: this test is about the verdict on the root Tikhonov finds
+  // from the model's guess (the automatic start goes on to a physical one).
+  const std::string args = "solve relativistic --set beta=0.99 --order 64 --solver tikhonov --scaling none --start guess";
   const CliRun run = Cli(args);
   EXPECT_EQ(run.code, kExitNonPhysical) << run.out;
   EXPECT_NE(run.out.find("status       non_physical"), std::string::npos) << run.out;
@@ -50,7 +52,7 @@ TEST(PhysicalCli, WrongRootIsExitFive) {
 // A model file names its auxiliary by the recast (sqrt_1); HDHB aliasing at
 // beta = 0.95, N = 16 lands on a non-physical solution.
 TEST(PhysicalCli, AliasedHdhbIsExitFive) {
-  const CliRun run = Cli("solve relativistic --set beta=0.95 --order 16 --method hdhb");
+  const CliRun run = Cli("solve relativistic --set beta=0.95 --order 16 --method hdhb --start guess");
   EXPECT_EQ(run.code, kExitNonPhysical) << run.out;
   EXPECT_NE(run.out.find("a wrong root of the recast or aliasing"), std::string::npos) << run.out;
 }

@@ -65,7 +65,7 @@ def test_coefficients_harmonics_validate_and_stability():
 
 def test_a_non_physical_solution_is_not_called_converged():
     # HDHB aliasing on the relativistic oscillator (the CLI exits 5 on it).
-    s = rmhb.Model("relativistic", beta=0.95).solve(order=16, method="hdhb")
+    s = rmhb.Model("relativistic", beta=0.95).solve(order=16, method="hdhb", start="guess")
     assert s.status == "non_physical" and not s.converged
     assert json.loads(s.to_json())["physical"] is False
 

@@ -1,0 +1,104 @@
+#include "rmhb/pipeline/start.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "rmhb/pipeline/analyze.h"
+
+namespace rmhb {
+namespace {
+
+bool Unknown(const HarmonicBalanceProblem& p) { return p.num_unknown_frequencies() > 0; }
+
+std::string Why(const HarmonicBalanceSummary& s) {
+  if (!s.converged()) return std::string(ToString(s.solver.status)) + ", max|F| " + std::to_string(s.solver.final_residual);
+  return "non-physical: " + s.non_physical;
+}
+
+// Analyze with a record that starts on the settled state (identification
+// of known frequencies: the harmonics are fitted on the record).
+std::optional<HarmonicBalanceSummary> SolveFromRecord(const Model& model, const Eigen::VectorXd& y0,
+                                                      const HarmonicBalanceOptions& options, std::string* why) {
+  Model settled = model;
+  settled.initial_state = y0;
+  AnalyzeOptions analyze;
+  analyze.solve = options;
+  analyze.transient = 0;
+  analyze.validate_periods = 1;
+  const AnalyzeSummary a = Analyze(settled, analyze);
+  if (a.solve && a.solve->usable()) return a.solve;
+  *why = std::string(ToString(a.status)) + (a.message.empty() ? "" : ": " + a.message);
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string StartOptions::IsValid() const {
+  if (!(settle_tolerance > 0)) return "settle_tolerance must be > 0";
+  if (max_periods < 2) return "max_periods must be >= 2";
+  if (!(max_seconds > 0)) return "max_seconds must be > 0";
+  return "";
+}
+
+Eigen::VectorXd SettledState(const Model& model, const StartOptions& start, int* periods) {
+  const double T = 2 * M_PI / model.problem.frequencies[0];
+  integrators::IntegratorOptions io;
+  io.method = model.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
+  io.relative_tolerance = 1e-11;
+  io.absolute_tolerance = 1e-13;
+  const auto begin = std::chrono::steady_clock::now();
+  Eigen::VectorXd y = model.initial_state;
+  constexpr int kChunk = 25;  // periods per integration call
+  for (int done = 0; done < start.max_periods; done += kChunk) {
+    std::vector<double> times;
+    for (int k = 0; k <= kChunk; ++k) times.push_back(k * T);
+    const integrators::IntegrationResult r = SimulateOriginal(model, model.problem.frequencies, y, times, io);
+    if (!r.ok()) throw std::runtime_error("the simulated start's integration stopped: " + r.message);
+    const Eigen::MatrixXd& s = r.trajectory.states;
+    for (int k = 1; k <= kChunk; ++k) {
+      const double change = (s.row(k) - s.row(k - 1)).lpNorm<Eigen::Infinity>();
+      if (change <= start.settle_tolerance * std::max(1.0, s.row(k).lpNorm<Eigen::Infinity>())) {
+        *periods = done + k;
+        return s.row(k).transpose();
+      }
+    }
+    y = s.row(kChunk).transpose();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    if (seconds > start.max_seconds)
+      throw std::runtime_error("the motion did not settle within " + std::to_string(start.max_seconds) + " s (" +
+                               std::to_string(done + kChunk) + " periods): not periodic at this forcing?");
+  }
+  throw std::runtime_error("the motion did not settle within " + std::to_string(start.max_periods) +
+                           " periods: not periodic at this forcing?");
+}
+
+StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess,
+                               const HarmonicBalanceOptions& options, const StartOptions& start) {
+  if (const std::string error = start.IsValid(); !error.empty()) throw std::invalid_argument("start: " + error);
+  StartedSolve out{SolveHarmonicBalance(model.problem, guess, options), "guess", "", 0};
+  if (out.summary.usable() || (!model.original && !model.original_dae)) return out;
+  out.note = "from the guess: " + Why(out.summary);
+  std::string why;
+  if (Unknown(model.problem)) {
+    AnalyzeOptions analyze;
+    analyze.solve = options;
+    const AnalyzeSummary a = Analyze(model, analyze);
+    if (a.solve && a.solve->usable()) return {*a.solve, "identification", out.note, 0};
+    out.note += "; from identification: " + std::string(ToString(a.status)) + " " + a.message;
+    return out;
+  }
+  if (model.problem.frequencies.size() != 1) return out;  // a forced torus does not settle stroboscopically
+  try {
+    int periods = 0;
+    const Eigen::VectorXd y = SettledState(model, start, &periods);
+    if (auto solved = SolveFromRecord(model, y, options, &why))
+      return {*solved, "simulation (" + std::to_string(periods) + " periods to settle)", out.note, periods};
+    out.note += "; from the simulated start (" + std::to_string(periods) + " periods to settle): " + why;
+  } catch (const std::runtime_error& e) {
+    out.note += "; simulated start: " + std::string(e.what());
+  }
+  return out;
+}
+
+}  // namespace rmhb

@@ -1,0 +1,53 @@
+#ifndef RMHB_PIPELINE_START_H_
+#define RMHB_PIPELINE_START_H_
+
+// A solve that needs no hand-made guess:
+//   StartedSolve s = SolveFromAnyStart(model, guess, options);
+// Tries, in order, until one converges to a physical solution:
+//  1. the given guess (the model's own `guess`, or rest: for a forced
+//     system Newton's first step from zero is the linear response);
+//  2. forced periodic models (every frequency known): a simulated start.
+//     The original equations are integrated period by period until the
+//     stroboscopic map settles (|y(kT) - y((k-1)T)| <= settle_tolerance
+//     times the state's size) -- the attractor the motion reaches -- and the
+//     record that follows, started at a multiple of the period so that the
+//     forcing's phase is kept, seeds the solve (rmhb/pipeline/analyze.h with
+//     the frequencies known);
+//  3. models with unknown frequencies: identification from a trajectory
+//     (the full Analyze pipeline).
+// The route taken is reported. Nothing is found: the last attempt's summary,
+// with its residual.
+
+#include <string>
+
+#include "rmhb/harmonic_balance.h"
+#include "rmhb/pipeline/model.h"
+
+namespace rmhb {
+
+struct StartOptions {
+  double settle_tolerance = 1e-9;  // relative change of the stroboscopic state
+  int max_periods = 20000;         // integration budget of the simulated start
+  double max_seconds = 10;         // wall-clock budget of the simulated start
+  std::string IsValid() const;
+};
+
+struct StartedSolve {
+  HarmonicBalanceSummary summary;
+  std::string route;  // "guess", "simulation (K periods to settle)", "identification"
+  std::string note;   // why earlier routes were left (empty when the first one worked)
+  int settle_periods = 0;
+};
+
+StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess,
+                               const HarmonicBalanceOptions& options, const StartOptions& start = {});
+
+// The state on the attractor at t = K T: integrated from the model's initial
+// state period by period until the stroboscopic map settles. Sets *periods to
+// K; throws std::runtime_error (with why) when it does not settle within the
+// budget or the integration fails.
+Eigen::VectorXd SettledState(const Model& model, const StartOptions& start, int* periods);
+
+}  // namespace rmhb
+
+#endif  // RMHB_PIPELINE_START_H_

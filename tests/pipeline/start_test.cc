@@ -1,0 +1,66 @@
+// Model files with no guess, defaults only: a forced 1-DOF and a forced
+// 2-DOF model swept through their resonances, the forced damped pendulum;
+// every solution a true orbit (a CVODE integration from its own state stays
+// within 1e-8 over a period), whichever start got there.
+
+#include "rmhb/pipeline/start.h"
+
+#include <gtest/gtest.h>
+
+namespace rmhb {
+namespace {
+
+struct Sweep {
+  const char* file;
+  std::vector<double> frequencies;
+  int order;
+};
+
+void ExpectTrueOrbits(const Sweep& sweep, int* simulated) {
+  for (double W : sweep.frequencies) {
+    const Model model = LoadModel(sweep.file, {{"W", W}});
+    HarmonicBalanceOptions options;
+    options.order = sweep.order;
+    const StartedSolve s = SolveFromAnyStart(model, GuessAtOrder(model, sweep.order), options);
+    ASSERT_TRUE(s.summary.usable()) << sweep.file << " W = " << W << ": " << s.note;
+    const integrators::ValidationReport v = ValidateOriginal(model, *s.summary.solution, 2 * M_PI / W);
+    ASSERT_TRUE(v.ok) << v.message;
+    EXPECT_LT(v.max_error, 1e-8) << sweep.file << " W = " << W << " (start: " << s.route << ")";
+    *simulated += s.route != "guess";
+  }
+}
+
+TEST(Start, ForcedOneAndTwoDofModelsConvergeThroughResonanceWithoutAGuess) {
+  int simulated = 0;
+  ExpectTrueOrbits({"tests/pipeline/models/forced-duffing.yaml",
+                    {0.6, 0.8, 0.9, 1.0, 1.1, 1.2, 1.3, 1.5, 1.8, 2.2}, 15}, &simulated);
+  ExpectTrueOrbits({"tests/pipeline/models/forced-chain.yaml",
+                    {0.6, 0.9, 1.0, 1.05, 1.1, 1.2, 1.5, 1.7, 1.8, 1.9, 2.2}, 15}, &simulated);
+  // Near the resonances the guess (rest) is not enough: the simulated start
+  // did the work there (otherwise this test would not test it).
+  EXPECT_GE(simulated, 3);
+}
+
+TEST(Start, TheForcedDampedPendulumConvergesWithDefaults) {
+  int simulated = 0;
+  ExpectTrueOrbits({"tests/pipeline/models/forced-pendulum.yaml", {0.7, 0.8, 0.9, 1.0}, 30}, &simulated);
+  EXPECT_GE(simulated, 3);
+}
+
+TEST(Start, SaysWhyWhenNothingWorks) {
+  Model model = LoadModel("tests/pipeline/models/forced-duffing.yaml", {{"W", 1.2}});
+  HarmonicBalanceOptions options;
+  options.order = 15;
+  options.solver.max_iterations = 1;
+  options.order_continuation = false;
+  StartOptions start;
+  start.max_periods = 50;  // too short to settle: damping 0.05
+  const StartedSolve s = SolveFromAnyStart(model, GuessAtOrder(model, 15), options, start);
+  EXPECT_FALSE(s.summary.usable());
+  EXPECT_GT(s.summary.solver.final_residual, 1e-6);
+  EXPECT_NE(s.note.find("did not settle within 50 periods"), std::string::npos) << s.note;
+  EXPECT_THROW(SolveFromAnyStart(model, GuessAtOrder(model, 15), options, StartOptions{0, 10, 1}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rmhb
