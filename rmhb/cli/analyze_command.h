@@ -24,6 +24,7 @@ struct AnalyzeArgs {
   int samples_per_period = 0;  // 0: from the basis's highest harmonic
   int window = 0;          // Hann^q, 0 = automatic
   int validate_periods = 20;
+  double validate_tol = 1e-8;  // relative to max|state|; above it: exceeds, exit 6
   std::string plot;        // FILE.png|svg: the solution against CVODE
   bool json = false;
 };

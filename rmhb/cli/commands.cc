@@ -42,6 +42,10 @@ void AddSolveOptions(CLI::App* app, SolveArgs* a) {
                 "verdict (stable, unstable, or neutral within 1e-6 of the unit circle); --json: a `stability` object");
   app->add_option("--validate-periods", a->validate_periods, "Periods to integrate (default 1)")
       ->check(CLI::Range(1, 100000));
+  app->add_option("--validate-tol", a->validate_tol,
+                  "--validate says ok only when the max state error relative to max|state| is at most this "
+                  "(default 1e-8); above it: EXCEEDS and exit 6")
+      ->check(CLI::PositiveNumber);
   app->add_option("--plot", a->plot,
                   "Draw the time response against a CVODE integration of the original equations, "
                   "their difference and the phase portrait into FILE.png or FILE.svg (gnuplot)");
@@ -54,7 +58,8 @@ void AddSolveOptions(CLI::App* app, SolveArgs* a) {
       "printed), 4 internal, 5 converged to a NON-PHYSICAL solution (status non_physical, the\n"
       "reason printed: an auxiliary off its definition between the samples -- a wrong root of\n"
       "the recast or aliasing -- or an unknown frequency collapsed to w <= 0; with --continue:\n"
-      "some point of the branch is non-physical).");
+      "some point of the branch is non-physical), 6 --validate measured an error above\n"
+      "--validate-tol (relative to max|state|; status exceeds).");
 }
 
 void PlotSolution(const ProblemSource& source, const HarmonicSolution& sol, const std::string& file) {
@@ -241,7 +246,9 @@ int RunSolve(const SolveArgs& a) {
       throw std::invalid_argument("cannot validate: " + source.original_error);
     const double period = 2 * M_PI / *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
     const integrators::ValidationReport v = ValidateOriginal(source, sol, a.validate_periods * period);
-    validation = {{"status", v.ok ? "ok" : "failed"}, {"max_error", Number(v.max_error)},
+    const ValidationVerdict verdict = JudgeValidation(source, sol, v, a.validate_periods * period, a.validate_tol);
+    validation = {{"status", !v.ok ? "failed" : verdict.ok ? "ok" : "exceeds"}, {"max_error", Number(v.max_error)},
+                  {"relative_error", Number(verdict.relative_error)}, {"tolerance", a.validate_tol},
                   {"periods", a.validate_periods}, {"t_end", a.validate_periods * period},
                   {"seconds", v.seconds}, {"integrator", v.integrator}, {"message", v.message}};
     out["validation"] = validation;
@@ -329,10 +336,11 @@ int RunSolve(const SolveArgs& a) {
                   validation["message"].get<std::string>().c_str(),
                   validation["seconds"].get<double>() * 1e3);
     else if (!validation.is_null())
-      std::printf("validation   %s: max error %.3e over %d (longest) period(s) against %s (%.1f ms)\n",
-                  validation["status"].get<std::string>().c_str(),
-                  validation["max_error"].get<double>(), a.validate_periods,
-                  validation["integrator"].get<std::string>().c_str(),
+      std::printf("validation   %s: max error %.3e (relative %.2e %s tolerance %.0e) over %d (longest) period(s) "
+                  "against %s (%.1f ms)\n",
+                  validation["status"] == "ok" ? "ok" : "EXCEEDS", validation["max_error"].get<double>(),
+                  validation["relative_error"].get<double>(), validation["status"] == "ok" ? "<=" : ">",
+                  a.validate_tol, a.validate_periods, validation["integrator"].get<std::string>().c_str(),
                   validation["seconds"].get<double>() * 1e3);
   }
   if (!converged) {
@@ -346,6 +354,12 @@ int RunSolve(const SolveArgs& a) {
       std::fprintf(stderr, "rmhb: converged to a NON-PHYSICAL solution (not a solution of the model): %s\n",
                    summary.non_physical.c_str());
     return kExitNonPhysical;
+  }
+  if (!validation.is_null() && validation["status"] == "exceeds") {
+    if (!a.json)
+      std::fprintf(stderr, "rmhb: the solution misses its validation tolerance: relative error %.2e > %.0e\n",
+                   validation["relative_error"].get<double>(), a.validate_tol);
+    return kExitValidationExceeded;
   }
   return kExitOk;
 }

@@ -19,6 +19,7 @@ struct SolveArgs {
   bool validate = false;
   bool stability = false;   // Floquet multipliers by Hill's method and CVODE
   int validate_periods = 1;
+  double validate_tol = 1e-8;  // relative to max|state|: above it the validation EXCEEDS (exit 6)
   bool json = false;
   bool quiet = false;
   std::string eval;         // "t0:dt:t1"

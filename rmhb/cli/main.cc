@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
       "value, gnuplot missing for --plot), 3 the solver did not converge (the residual\n"
       "reached is reported) or an integration stopped early, 4 internal, 5 converged to a\n"
       "NON-PHYSICAL solution (an auxiliary off its definition between the samples, e.g. the\n"
-      "wrong root of a sqrt recast or aliasing, or an unknown frequency collapsed to w <= 0).\n"
+      "wrong root of a sqrt recast or aliasing, or an unknown frequency collapsed to w <= 0),\n"
+      "6 validated (--validate) with an error above --validate-tol.\n"
       "`rmhb <command> --help` describes each command, its options and defaults."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "rmhb " RMHB_VERSION_STRING);

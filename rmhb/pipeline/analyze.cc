@@ -108,6 +108,7 @@ const char* ToString(AnalyzeStatus status) {
     case AnalyzeStatus::kSeedFailed: return "seed_failed";
     case AnalyzeStatus::kNotConverged: return "not_converged";
     case AnalyzeStatus::kNonPhysical: return "non_physical";
+    case AnalyzeStatus::kValidationExceeded: return "validation_exceeded";
   }
   return "not_converged";
 }
@@ -120,6 +121,7 @@ std::string AnalyzeOptions::IsValid() const {
   if (samples_per_period < 0) return "samples_per_period must be >= 0";
   if (window < 0) return "window must be >= 0";
   if (validate_periods < 1) return "validate_periods must be >= 1";
+  if (!(validate_tolerance > 0)) return "validate_tolerance must be > 0";
   return solve.IsValid();
 }
 
@@ -150,6 +152,11 @@ AnalyzeSummary Analyze(const Model& model, const AnalyzeOptions& options) {
       const double slowest = *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
       s.validation_t_end = options.validate_periods * 2 * M_PI / slowest;
       s.validation = ValidateOriginal(model, sol, s.validation_t_end);
+      s.verdict = JudgeValidation(model, sol, *s.validation, s.validation_t_end, options.validate_tolerance);
+      if (!s.verdict->ok) {
+        s.status = AnalyzeStatus::kValidationExceeded;
+        s.message = "validation " + s.verdict->Describe();
+      }
     }
   }
   s.seconds = Since(start);
@@ -181,7 +188,7 @@ std::string AnalyzeSummary::FullReport() const {
   if (solve) out << "solve       " << solve->BriefReport() << "\n";
   if (validation)
     out << "validate    max error " << validation->max_error << " over [0, " << validation_t_end << "] against "
-        << validation->integrator << "\n";
+        << validation->integrator << (verdict ? ", " + verdict->Describe() : std::string()) << "\n";
   return out.str() + BriefReport();
 }
 

@@ -32,6 +32,7 @@ struct AnalyzeOptions {
   int samples_per_period = 0;  // of the fastest base; 0: from the order
   int window = 0;              // Hann^q for identification; 0: automatic
   int validate_periods = 20;   // of the slowest base
+  double validate_tolerance = 1e-8;  // relative to max|state| (JudgeValidation)
   std::string IsValid() const;  // empty when valid
 };
 
@@ -41,8 +42,10 @@ enum class AnalyzeStatus {
   kSeedFailed,            // the identified lines do not fit the model's bases
   kNotConverged,          // the solver stopped (solve->solver says why)
   kNonPhysical,           // converged to a non-physical solution (solve->non_physical)
+  kValidationExceeded,    // solved, but the validation error is above the tolerance
 };
-// "converged", "identification_failed", "seed_failed", the solver's status, "non_physical"
+// "converged", "identification_failed", "seed_failed", "not_converged", "non_physical",
+// "validation_exceeded"
 const char* ToString(AnalyzeStatus status);
 
 struct RecordStage {
@@ -63,6 +66,7 @@ struct AnalyzeSummary {
   HarmonicBalanceProblem problem;  // as solved: the identified frequencies as guesses
   std::optional<HarmonicBalanceSummary> solve;
   std::optional<integrators::ValidationReport> validation;
+  std::optional<ValidationVerdict> verdict;
   double validation_t_end = 0;
   double seconds = 0;
 

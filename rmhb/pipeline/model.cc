@@ -1,6 +1,8 @@
 #include "rmhb/pipeline/model.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <limits>
 
 #include "integrators/cvode_integrator.h"
 #include "integrators/ida_integrator.h"
@@ -113,6 +115,24 @@ integrators::ValidationReport ValidateOriginal(const Model& source, const Harmon
   const std::vector<double>& w = solution.frequencies();
   return source.original_dae ? integrators::ValidateDaeTrajectory(source.original_dae(w), claimed, t_end, samples)
                              : integrators::ValidateTrajectory(source.original(w), claimed, t_end, source.stiff, samples);
+}
+
+ValidationVerdict JudgeValidation(const Model& model, const HarmonicSolution& solution,
+                                  const integrators::ValidationReport& report, double t_end, double tolerance) {
+  ValidationVerdict v;
+  v.tolerance = tolerance;
+  v.scale = std::numeric_limits<double>::min();
+  for (int i = 0; i <= 256; ++i) v.scale = std::max(v.scale, model.state(solution, t_end * i / 256).lpNorm<Eigen::Infinity>());
+  v.relative_error = report.ok ? report.max_error / v.scale : std::numeric_limits<double>::infinity();
+  v.ok = report.ok && v.relative_error <= tolerance;
+  return v;
+}
+
+std::string ValidationVerdict::Describe() const {
+  char text[160];
+  std::snprintf(text, sizeof text, "%s: relative error %.2e %s tolerance %.0e (max |state| %.3g)",
+                ok ? "ok" : "EXCEEDS", relative_error, ok ? "<=" : ">", tolerance, scale);
+  return text;
 }
 
 }  // namespace rmhb

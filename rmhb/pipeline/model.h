@@ -101,6 +101,19 @@ using StateOfSolution = std::function<Eigen::VectorXd(const HarmonicSolution&, d
 integrators::ValidationReport ValidateOriginal(const Model& model, const HarmonicSolution& solution, double t_end,
                                                int samples = 2001, const StateOfSolution& state = nullptr);
 
+// The verdict on a validation: its max state error relative to the size of
+// the state (max |y(t)| over the validated span) against a tolerance. "ok"
+// only when the integration finished and the error is within it.
+struct ValidationVerdict {
+  bool ok = false;
+  double relative_error = 0;  // max_error / scale
+  double scale = 0;           // max |y(t)|, at least the smallest normal double
+  double tolerance = 0;
+  std::string Describe() const;  // "ok: relative error 3.2e-12 <= 1e-08" or "EXCEEDS: ..."
+};
+ValidationVerdict JudgeValidation(const Model& model, const HarmonicSolution& solution,
+                                  const integrators::ValidationReport& report, double t_end, double tolerance);
+
 }  // namespace rmhb
 
 #endif  // RMHB_PIPELINE_MODEL_H_
