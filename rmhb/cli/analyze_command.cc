@@ -70,10 +70,14 @@ void ReportIdentification(const Model& source, const AnalyzeSummary& s, json* st
   std::snprintf(text, sizeof text, "%-10s %9.1f ms  %s rtol %.0e: %d samples, t in [%g, %g], dt %.4g", "trajectory",
                 s.trajectory->seconds * 1e3, OriginalIntegrator(source), record.integrator.relative_tolerance,
                 s.trajectory->samples, record.transient, record.t_end, record.dt);
-  lines->push_back(text);
+  lines->push_back(text + (s.trajectory->settle_periods > 0
+                               ? " after the motion settled (" + std::to_string(s.trajectory->settle_periods) +
+                                     " periods)"
+                               : std::string()));
   (*stages)["trajectory"] = {{"seconds", s.trajectory->seconds}, {"samples", s.trajectory->samples},
                              {"transient", record.transient}, {"t_end", record.t_end}, {"dt", record.dt},
-                             {"relative_tolerance", record.integrator.relative_tolerance}};
+                             {"relative_tolerance", record.integrator.relative_tolerance},
+                             {"settle_periods", s.trajectory->settle_periods}};
   if (!s.identification) return;
   const frequency_id::IdentificationSummary& id = *s.identification;
   (*stages)["identify"] = {{"seconds", s.identify_seconds}, {"status", ToString(id.status)}, {"message", id.message},

@@ -1,5 +1,7 @@
 #include "rmhb/pipeline/analyze.h"
 
+#include "rmhb/pipeline/start.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -66,9 +68,24 @@ frequency_id::IdentificationOptions IdentificationOptionsFor(const HarmonicBalan
 // the summary's status and message set.
 std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const AnalyzeOptions& o, AnalyzeSummary* s) {
   const int bases = static_cast<int>(model.problem.frequencies.size());
-  RecordStage stage{Record(model, o, bases)};
+  // A forced periodic motion is recorded once it has settled: the transient
+  // is measured (the stroboscopic map), not guessed.
+  const bool settle = o.transient < 0 && bases == 1 && model.problem.num_unknown_frequencies() == 0;
+  AnalyzeOptions record_options = o;
+  if (settle) record_options.transient = 0;
+  RecordStage stage{Record(model, record_options, bases)};
   auto t0 = Clock::now();
-  const frequency_id::Signal signal = RecordOriginal(model, model.problem.frequencies, model.initial_state, stage.record);
+  Eigen::VectorXd y0 = model.initial_state;
+  if (settle) {
+    try {
+      y0 = SettledState(model, StartOptions{}, &stage.settle_periods);
+    } catch (const std::runtime_error& e) {
+      s->status = AnalyzeStatus::kIdentificationFailed;
+      s->message = e.what();
+      return std::nullopt;
+    }
+  }
+  const frequency_id::Signal signal = RecordOriginal(model, model.problem.frequencies, y0, stage.record);
   stage.seconds = Since(t0);
   stage.samples = signal.num_samples();
   s->trajectory = stage;

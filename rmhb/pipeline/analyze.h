@@ -28,7 +28,10 @@ struct AnalyzeOptions {
   HarmonicBalanceOptions solve;  // order, sampling rule, solver
   bool identify = true;
   double t_end = 0;            // of the record; 0: from the model's frequencies
-  double transient = -1;       // integrated, not recorded; -1: a tenth of t_end
+  // Integrated, not recorded. -1: for a forced periodic model (every
+  // frequency known) until the stroboscopic state settles (SettledState,
+  // rmhb/pipeline/start.h, within its budget); otherwise a tenth of t_end.
+  double transient = -1;
   int samples_per_period = 0;  // of the fastest base; 0: from the order
   int window = 0;              // Hann^q for identification; 0: automatic
   int validate_periods = 20;   // of the slowest base
@@ -50,6 +53,7 @@ const char* ToString(AnalyzeStatus status);
 
 struct RecordStage {
   seeding::RecordOptions record;
+  int settle_periods = 0;  // periods integrated until the motion settled (0: a fixed transient)
   int samples = 0;
   double seconds = 0;
 };

@@ -5,6 +5,8 @@
 
 #include "rmhb/pipeline/start.h"
 
+#include "rmhb/pipeline/analyze.h"
+
 #include <gtest/gtest.h>
 
 namespace rmhb {
@@ -60,6 +62,24 @@ TEST(Start, SaysWhyWhenNothingWorks) {
   EXPECT_GT(s.summary.solver.final_residual, 1e-6);
   EXPECT_NE(s.note.find("did not settle within 50 periods"), std::string::npos) << s.note;
   EXPECT_THROW(SolveFromAnyStart(model, GuessAtOrder(model, 15), options, StartOptions{0, 10, 1}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rmhb
+
+namespace rmhb {
+namespace {
+
+// analyze decides its transient: a lightly damped forced model file is
+// recorded once its stroboscopic state has settled, with no --transient.
+TEST(Start, AnalyzeWaitsForALightlyDampedMotionToSettle) {
+  const Model model = LoadModel("tests/pipeline/models/forced-duffing.yaml", {{"c", 0.02}});
+  AnalyzeOptions options;
+  options.solve.order = 20;
+  const AnalyzeSummary a = Analyze(model, options);
+  ASSERT_TRUE(a.ok()) << a.FullReport();
+  EXPECT_GT(a.trajectory->settle_periods, 100);  // damping 0.02: a slow transient
+  EXPECT_LT(a.validation->max_error, 1e-8);
 }
 
 }  // namespace
