@@ -272,8 +272,10 @@ TEST(CliDae, ValidateIntegratesTheDaeWithIda) {
   EXPECT_EQ(j["validation"]["status"], "ok");
   EXPECT_NE(j["validation"]["integrator"].get<std::string>().find("IDA"), std::string::npos);
   // z = 1/(1 + x^2) has slowly decaying harmonics: 1.9e-7 at N = 30 is its
-  // truncation; at N = 60 what is left is IDA's own error (4.6e-10).
-  EXPECT_LT(j["validation"]["max_error"].get<double>(), 1e-9);
+  // truncation; at N = 60 what is left is IDA's own error at rtol 1e-14,
+  // which depends on the build's last bits: 4.6e-10 on one machine, 1.4e-9
+  // on another (-march=native).
+  EXPECT_LT(j["validation"]["max_error"].get<double>(), 3e-9);
 }
 
 }  // namespace
