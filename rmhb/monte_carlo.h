@@ -118,7 +118,7 @@ MonteCarloSummary RunMonteCarlo(const HarmonicBalanceProblem& problem,
                                 const MonteCarloOptions& options);
 
 // The census in two steps, for running its starts on several processes
-// (MPI, rmhb/cli/montecarlo_command.cc): each solves its share of the starts,
+// (MPI, rmhb/sweep/monte_carlo_mpi.h): each solves its share of the starts,
 // the root gathers every outcome and takes the census. RunMonteCarlo is
 // CensusOfStarts(SolveStarts(...)); the census depends on the outcomes by
 // start index only, so it is the same however the starts were shared out.

@@ -18,7 +18,7 @@ class App;
 namespace rmhb::cli {
 
 struct AnalyzeArgs {
-  SolveSettings settings;
+  ModelSettings settings;
   double t_end = 0;        // 0: from the model's frequencies
   double transient = -1;   // -1: a tenth of t_end
   int samples_per_period = 0;  // 0: from the basis's highest harmonic

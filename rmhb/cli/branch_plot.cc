@@ -6,20 +6,10 @@
 #include <stdexcept>
 
 #include "rmhb/cli/plot.h"
+#include "rmhb/pipeline/branch.h"
 
 namespace rmhb::cli {
 namespace {
-
-// max |z(t)| of variable j: over one period, or for a quasi-periodic
-// solution over many periods of the slowest base (a lower bound of the sup).
-double Peak(const HarmonicSolution& s, int j) {
-  if (s.frequencies().size() == 1) return s.Amplitude(j);
-  const double w = *std::min_element(s.frequencies().begin(), s.frequencies().end());
-  const double span = 200 * 2 * M_PI / w;
-  double peak = 0;
-  for (int i = 0; i < 20000; ++i) peak = std::max(peak, std::abs(s.Value(j, span * i / 20000)));
-  return peak;
-}
 
 struct StabilityStyle {
   const char* name;
@@ -52,7 +42,7 @@ std::vector<BranchRow> BranchRows(const ContinuationSummary& summary, const std:
         throw std::invalid_argument("--plot-var: no variable '" + plot_var + "' (variables: " + names +
                                     ", or frequency)");
       }
-      row.value = Peak(p.solution, j);
+      row.value = PeakValue(p.solution, j);
     }
     rows.push_back(row);
   }

@@ -15,7 +15,7 @@ class App;
 namespace rmhb::cli {
 
 struct SolveArgs {
-  SolveSettings settings;
+  ModelSettings settings;
   bool validate = false;
   bool stability = false;   // Floquet multipliers by Hill's method and CVODE
   int validate_periods = 1;
@@ -39,16 +39,11 @@ int RunSolve(const SolveArgs& args);
 // `--plot`: two periods of the slowest base, the solution against CVODE
 // started on it (the original equations), their difference and the phase
 // portrait, into FILE.png or FILE.svg.
-void PlotSolution(const ProblemSource& source, const HarmonicSolution& solution, const std::string& file);
+void PlotSolution(const Model& source, const HarmonicSolution& solution, const std::string& file);
 int RunList(bool json);
 void AddRecastOptions(CLI::App* app, RecastArgs* args);
 int RunRecast(const RecastArgs& args);
 
-// "name=value" -> (name, value); throws std::invalid_argument saying which
-// argument is malformed or not a finite number.
-std::pair<std::string, double> ParseAssignment(const std::string& text);
-// Every --set of a command, as parameter overrides.
-std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments);
 
 }  // namespace rmhb::cli
 

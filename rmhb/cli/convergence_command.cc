@@ -14,10 +14,9 @@
 #include <optional>
 #include <sstream>
 
-#include "integrators/trajectory_validation.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/plot.h"
-#include "rmhb/cli/problem_source.h"
+#include "examples/example_model.h"
 #include "rmhb/model/recast.h"
 #include "rmhb/pipeline/convergence.h"
 
@@ -25,7 +24,6 @@ namespace rmhb::cli {
 namespace {
 
 using nlohmann::json;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::vector<std::string> SplitList(const std::string& text) {
   std::vector<std::string> out;
@@ -72,33 +70,8 @@ std::string TwinModelFile(const std::string& example) {
   return "";
 }
 
-json CellJson(int order, const ConvergenceCell& c) {
-  return {{"order", order}, {"status", c.status}, {"message", c.message}, {"samples", c.samples},
-          {"iterations", c.iterations}, {"residual", Number(c.residual)}, {"seconds", Number(c.seconds)},
-          {"reciprocal_condition", Number(c.reciprocal_condition)},
-          {"error", Number(c.error)}, {"frequency_error", Number(c.frequency_error)},
-          {"amplitude_error", Number(c.amplitude_error)}, {"max_error", Number(c.max_error)},
-          {"trajectory_error", Number(c.trajectory_error)}, {"physical", c.physical},
-          {"non_physical", c.non_physical}, {"definition_error", Number(c.definition_error)}};
-}
-
-std::string CellText(const ConvergenceCell& c) {
-  char buf[64];
-  if (c.status == "converged" && !c.physical)  // '!': see the note under the table
-    std::snprintf(buf, sizeof buf, "%7.1e! %8.2f %5d", c.error, c.seconds * 1e3, c.samples);
-  else if (c.status == "converged" && std::isfinite(c.error))
-    std::snprintf(buf, sizeof buf, "%8.1e %8.2f %5d", c.error, c.seconds * 1e3, c.samples);
-  else if (c.status == "converged")
-    std::snprintf(buf, sizeof buf, "%8s %8.2f %5d", "n/a", c.seconds * 1e3, c.samples);
-  else if (std::isfinite(c.residual))
-    std::snprintf(buf, sizeof buf, "fails |F| %7.1e %5d", c.residual, c.samples);
-  else
-    std::snprintf(buf, sizeof buf, "%-23s", c.status.substr(0, 23).c_str());
-  return buf;
-}
-
 // Error against run time (log-log) and against order, one line per column.
-void PlotTable(const ProblemSource& source, const std::string& measure, const std::vector<int>& orders,
+void PlotTable(const Model& source, const std::string& measure, const std::vector<int>& orders,
                const std::vector<ConvergenceColumn>& columns, const std::string& file) {
   Plot plot{source.name + ": " + source.equation, {}};
   PlotPanel speed{"error against run time", "run time [s]", "error: " + measure, true, true, {}};
@@ -188,68 +161,15 @@ ConvergenceOptions StudyOptions(const ConvergenceArgs& a, const std::vector<int>
   return o;
 }
 
-void PrintTable(const ProblemSource& source, const ConvergenceSummary& study, const ConvergenceArgs& a,
-                const ConvergenceOptions& options) {
-  const std::vector<int>& orders = study.orders;
-  std::printf("%s: %s  (recast degree phi = %d)\n", source.name.c_str(), source.equation.c_str(),
-              source.problem.system.Degree());
-  std::printf("error: %s%s%s\n", study.error_measure.c_str(), source.reference.source.empty() ? "" : "; ",
-              source.reference.source.c_str());
-  std::printf("cells: error, run time [ms], samples M\n\n%5s", source.problem.frequencies.size() == 1 ? "N" : "p");
-  for (const auto& col : study.columns) std::printf(" | %-23s", col.name.c_str());
-  std::printf("\n");
-  for (size_t i = 0; i < orders.size(); ++i) {
-    std::printf("%5d", orders[i]);
-    for (const auto& col : study.columns) std::printf(" | %s", CellText(col.cells[i]).c_str());
-    std::printf("\n");
-  }
-  for (const auto& col : study.columns) {
-    if (!col.unavailable.empty()) std::printf("%s: not run: %s\n", col.name.c_str(), col.unavailable.c_str());
-    for (size_t i = 0; i < col.cells.size(); ++i)
-      if (col.cells[i].converged() && !col.cells[i].physical)
-        std::printf("%s, order %d: ! NON-PHYSICAL: %s\n", col.name.c_str(), orders[i],
-                    col.cells[i].non_physical.c_str());
-    for (size_t i = 0; i < col.cells.size(); ++i)
-      if (col.cells[i].status == "refused") {
-        std::printf("%s, order %d: refused: %s\n", col.name.c_str(), orders[i], col.cells[i].message.c_str());
-        break;
-      }
-  }
-  if (study.taylor_degree >= 0)
-    std::printf("taylor: the non-polynomial terms replaced by their Taylor polynomials of order %d (phi = %d)\n",
-                a.taylor_order, study.taylor_degree);
-  bool original = false;
-  for (const auto& col : study.columns) original |= col.method == StudyMethod::kOriginal;
-  if (original || std::count(options.methods.begin(), options.methods.end(), StudyMethod::kOriginal))
-    std::printf("original: HB-AFT on the original right-hand side, M = %s (aliases)\n",
-                a.original_samples > 0 ? std::to_string(a.original_samples).c_str() : "the recast's AFT count");
-}
-
-json StudyJson(const ProblemSource& source, const ConvergenceSummary& study, const ConvergenceArgs& a) {
-  json cols = json::array();
-  for (const auto& col : study.columns) {
-    json rows = json::array();
-    for (size_t i = 0; i < col.cells.size(); ++i) rows.push_back(CellJson(study.orders[i], col.cells[i]));
-    cols.push_back({{"name", col.name}, {"method", ToString(col.method)}, {"solver", ToString(col.solver)},
-                    {"conditions", ToString(col.scheme)}, {"unavailable", col.unavailable}, {"rows", rows}});
-  }
-  json out{{"model", a.settings.model}, {"equation", source.equation}, {"error_measure", study.error_measure},
-           {"reference", source.reference.source.empty() ? "CVODE trajectory" : source.reference.source},
-           {"orders", study.orders}, {"degree", source.problem.system.Degree()}, {"columns", cols}};
-  if (study.taylor_degree >= 0) out["taylor"] = {{"order", a.taylor_order}, {"degree", study.taylor_degree}};
-  if (!a.plot.empty()) out["plot"] = a.plot;
-  return out;
-}
-
 }  // namespace
 
 int RunConvergence(const ConvergenceArgs& a) {
   const std::vector<int> orders = ParseOrders(a.orders);
   if (!a.plot.empty()) CheckPlotRequest(a.plot);
-  SolveSettings settings = a.settings;
-  settings.order = orders[0];
-  PreparedSolve prepared = PrepareSolve(settings);
-  ProblemSource& source = prepared.source;
+  ModelSettings settings = a.settings;
+  settings.solve.order = orders[0];
+  PreparedSolve prepared = Prepare(settings);
+  Model& source = prepared.model;
   // A bundled example's Taylor variant needs its equations: its model file.
   if (!source.definition && !source.from_file) {
     const std::string file = TwinModelFile(source.name);
@@ -258,10 +178,14 @@ int RunConvergence(const ConvergenceArgs& a) {
   const ConvergenceOptions options = StudyOptions(a, orders, prepared.options);
   const ConvergenceSummary study = ConvergenceStudy(source, options);
   if (!a.plot.empty()) PlotTable(source, study.error_measure, orders, study.columns, a.plot);
-  if (a.json)
-    std::cout << StudyJson(source, study, a).dump(1) << "\n";
-  else
-    PrintTable(source, study, a, options);
+  if (a.json) {
+    json out = study.ToJson();
+    out["model"] = a.settings.model;
+    if (!a.plot.empty()) out["plot"] = a.plot;
+    std::cout << out.dump(1) << "\n";
+  } else {
+    std::printf("%s", study.FullReport().c_str());
+  }
   if (study.converged == 0) {
     std::fprintf(stderr, "rmhb: no solve converged\n");
     return kExitNotConverged;

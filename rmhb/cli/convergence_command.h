@@ -20,7 +20,7 @@ class App;
 namespace rmhb::cli {
 
 struct ConvergenceArgs {
-  SolveSettings settings;            // model, --set, --frequencies, ...
+  ModelSettings settings;            // model, --set, --frequencies, ...
   std::string orders = "5:25:5";     // start:stop:step or a list
   std::string methods;               // "": rhb,hdhb,aft (+ taylor,original)
   std::string solvers;               // "": the default solver

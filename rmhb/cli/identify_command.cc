@@ -4,69 +4,23 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 
-#include "rmhb/seeding/identified_guess.h"
-#include "frequency_id/frequency_identification.h"
 #include "frequency_id/signal_io.h"
-#include "integrators/cvode_integrator.h"
-#include "integrators/ida_integrator.h"
-#include "rmhb/cli/commands.h"
 #include "frequency_id/spectrum.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/plot.h"
-#include "rmhb/cli/problem_source.h"
-#include "rmhb/cli/solve_setup.h"
+#include "examples/example_model.h"
+#include "rmhb/pipeline/identify.h"
+#include "rmhb/pipeline/settings.h"
 
 namespace rmhb::cli {
 namespace {
 
 using nlohmann::json;
-
-// The model's own trajectory, sampled uniformly after the transient.
-frequency_id::Signal Simulate(const IdentifyArgs& a, std::vector<double>* known, double* seconds,
-                              std::string* integrator) {
-  const ProblemSource source = LoadProblem(a.model, ParseOverrides(a.set));
-  if (!source.original && !source.original_dae)
-    throw std::invalid_argument("cannot integrate the model: " + source.original_error);
-  const std::vector<double>& w = source.problem.frequencies;
-  for (size_t b = 0; b < w.size(); ++b)
-    if (source.problem.unknown_frequency.empty() || !source.problem.unknown_frequency[b]) known->push_back(w[b]);
-  // 4 beats keep close bases 4 bins apart, enough for Hann^1; 20 took 14 s on
-  // the asymmetric pendulum for the same bases (frequency_id_benchmark, section 4).
-  seeding::RecordOptions record = seeding::DefaultRecord(w, a.samples_per_period, 300, 4);
-  if (a.t_end > 0) record.t_end = a.t_end;
-  record.transient = a.transient >= 0 ? a.transient : 0.1 * record.t_end;
-  if (!std::isfinite(record.t_end) || record.t_end > 1e7) throw std::invalid_argument("--t-end is too large");
-  if (record.transient >= record.t_end) throw std::invalid_argument("--transient must be shorter than --t-end");
-  record.integrator.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf
-                                          : integrators::IntegratorOptions::Method::kAdams;
-  // A conservative motion's torus is the one its initial state fixes.
-  const Eigen::VectorXd& y0 = source.initial_state;
-  const auto start = std::chrono::steady_clock::now();
-  frequency_id::Signal signal = RecordOriginal(source, w, y0, record);
-  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  *integrator = OriginalIntegrator(source);
-  return signal;
-}
-
-// --transient and --t-end cut a user's record too, measured from its first
-// sample (as from t = 0 for a model's record).
-void CutRecord(const IdentifyArgs& a, frequency_id::Signal* signal) {
-  const long n = signal->num_samples();
-  long first = 0, end = n;
-  if (a.transient > 0) first = std::min(n, static_cast<long>(std::ceil(a.transient / signal->dt - 1e-9)));
-  if (a.t_end > 0) end = std::min(n, static_cast<long>(std::ceil(a.t_end / signal->dt - 1e-9)));
-  if (end - first < 64)
-    throw std::invalid_argument("--transient/--t-end leave " + std::to_string(std::max(0L, end - first)) +
-                                " of the record's " + std::to_string(n) + " samples (64 needed)");
-  signal->samples = signal->samples.middleRows(first, end - first).eval();
-  signal->t0 += first * signal->dt;
-}
 
 // The windowed amplitude spectrum of the first channel, and every identified
 // line at its refined frequency labelled with its combination (m, n).
@@ -145,56 +99,30 @@ int RunIdentify(const IdentifyArgs& a) {
   if (a.model.empty() == a.signal.empty())
     throw std::invalid_argument("identify needs either a model or --signal FILE.csv");
   if (!a.plot.empty()) CheckPlotRequest(a.plot);
-  frequency_id::Signal signal;
-  std::vector<double> known;
-  double integration_seconds = 0;
-  std::string integrator;
+  IdentifyOptions options;
+  options.t_end = a.t_end;
+  options.transient = a.transient;
+  options.samples_per_period = a.samples_per_period;
+  options.window = a.window;
+  IdentifySummary summary;
   if (!a.signal.empty()) {
+    frequency_id::Signal signal;
     const frequency_id::CsvReadResult read = frequency_id::ReadSignalCsv(a.signal, &signal);
     if (!read.ok()) throw std::invalid_argument(read.message);
-    CutRecord(a, &signal);
+    summary = Identify(std::move(signal), options);
   } else {
-    signal = Simulate(a, &known, &integration_seconds, &integrator);
+    summary = Identify(examples::LoadModelOrExample(a.model, ParseOverrides(a.set)), options);
   }
-  frequency_id::IdentificationOptions options;
-  options.window_order = a.window;
-  options.bases.known_frequencies = known;
-  frequency_id::IdentificationSummary summary;
-  frequency_id::IdentifyFrequencies(options, signal, &summary);
-
-  json out;
-  out["status"] = ToString(summary.status);
-  out["message"] = summary.message;
-  json bases = json::array();
-  for (const auto& b : summary.bases)
-    bases.push_back({{"frequency", Number(b.frequency)}, {"uncertainty", Number(b.uncertainty)}, {"known", b.known}});
-  out["bases"] = bases;
-  json components = json::array();
-  for (const auto& c : summary.components) {
-    json amp = json::array(), phase = json::array();
-    for (int i = 0; i < c.amplitude.size(); ++i) amp.push_back(Number(c.amplitude(i)));
-    for (int i = 0; i < c.phase.size(); ++i) phase.push_back(Number(c.phase(i)));
-    components.push_back({{"frequency", Number(c.frequency)}, {"uncertainty", Number(c.frequency_uncertainty)},
-                          {"label", c.label}, {"amplitude", amp}, {"phase", phase}});
-  }
-  out["components"] = components;
-  out["channels"] = summary.channel_names;
-  out["samples"] = summary.num_samples;
-  out["duration"] = summary.duration;
-  out["seconds"] = {{"integration", integration_seconds}, {"identification", summary.total_seconds}};
+  json out = summary.ToJson();
   if (!a.plot.empty()) {
-    PlotSpectrum(signal, summary, a.plot);
+    PlotSpectrum(summary.signal, summary.identification, a.plot);
     out["plot"] = a.plot;
   }
-  if (a.json) {
+  if (a.json)
     std::cout << out.dump(1) << "\n";
-  } else {
-    std::printf("%s\n", summary.FullReport().c_str());
-    if (integration_seconds > 0)
-      std::printf("trajectory: %s, %d samples over %.6g time units, %.1f ms\n", integrator.c_str(),
-                  summary.num_samples, summary.duration, integration_seconds * 1e3);
-  }
-  return summary.IsUsable() ? kExitOk : kExitNotConverged;
+  else
+    std::printf("%s", summary.FullReport().c_str());
+  return summary.usable() ? kExitOk : kExitNotConverged;
 }
 
 }  // namespace rmhb::cli

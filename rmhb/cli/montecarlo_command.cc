@@ -8,49 +8,15 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 
-#include "integrators/floquet.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/solve_setup.h"
-#include "rmhb/monte_carlo.h"
-#include "rmhb/sweep/mpi.h"
+#include "rmhb/pipeline/census.h"
+#include "rmhb/sweep/monte_carlo_mpi.h"
 
 namespace rmhb::cli {
 namespace {
-
-using nlohmann::json;
-
-json Complex(const std::vector<std::complex<double>>& values) {
-  json out = json::array();
-  for (const auto& v : values) out.push_back({Number(v.real()), Number(v.imag())});
-  return out;
-}
-
-json ClusterJson(const SolutionCluster& c) {
-  json out = {{"class", ToString(c.solution_class)},
-              {"count", c.count},
-              {"share", Number(c.share)},
-              {"amplitude", Number(c.amplitude)},
-              {"reference_distance", Number(c.reference_distance)}};
-  json stability = json::object();
-  if (c.hill)
-    stability["hill"] = {{"stable", c.hill->stable},
-                         {"max_real_part", Number(c.hill->max_real_part)},
-                         {"exponents", Complex(c.hill->exponents)},
-                         {"multipliers", Complex(c.hill->multipliers)},
-                         {"trivial", c.hill->trivial}};
-  if (c.original) {
-    stability["floquet"] = {{"ok", c.original->ok},
-                            {"stable", c.original->stable},
-                            {"multipliers", Complex(c.original->multipliers)},
-                            {"closure_error", Number(c.original->closure_error)},
-                            {"message", c.original->message}};
-    if (c.hill && c.original->ok) stability["agree"] = c.hill->stable == c.original->stable;
-  }
-  out["stability"] = stability;
-  out["solution"] = SolutionJson(c.representative);
-  return out;
-}
 
 // A progress bar on stderr, only for a person watching a terminal.
 void ShowProgress(long done, long total) {
@@ -62,46 +28,6 @@ void ShowProgress(long done, long total) {
                "########################################", width - filled, "",
                static_cast<int>(100 * done / total), done, total);
   if (done == total) std::fprintf(stderr, "\r%*s\r", width + 40, "");
-}
-
-// A start's outcome as numbers for MPI: converged flag, coefficients
-// (row-major), frequencies; the same length for every start.
-void PackOutcome(const StartOutcome& o, int coefficients, int bases, std::vector<double>* out) {
-  const bool converged = o.coefficients.size() > 0;
-  out->push_back(converged);
-  for (int i = 0; i < coefficients; ++i)
-    out->push_back(converged ? o.coefficients(i / o.coefficients.cols(), i % o.coefficients.cols()) : 0.0);
-  for (int b = 0; b < bases; ++b) out->push_back(converged ? o.frequencies[b] : 0.0);
-}
-
-// The census over `ranks` processes: rank r solves starts r, r + ranks, ...;
-// rank 0 gathers every outcome and classifies. The same census as one
-// process (it depends on the outcomes by start index only); other ranks get
-// an empty summary.
-MonteCarloSummary Census(const HarmonicBalanceProblem& problem, const MonteCarloOptions& options, int rank,
-                         int ranks) {
-  if (ranks == 1) return rmhb::RunMonteCarlo(problem, options);
-  const auto begin = std::chrono::steady_clock::now();
-  StartSolves solves = SolveStarts(problem, options, rank, ranks);
-  const int rows = problem.system.num_variables(), cols = HarmonicBasis::Periodic(options.solve.order).num_coefficients();
-  const int bases = static_cast<int>(problem.frequencies.size()), record = 1 + rows * cols + bases;
-  std::vector<double> mine;
-  for (const auto& rule : solves.outcomes)
-    for (long i = rank; i < options.starts; i += ranks) PackOutcome(rule[i], rows * cols, bases, &mine);
-  const std::vector<double> all = sweep::GatherToRoot(mine);
-  for (double& s : solves.rule_seconds) s = sweep::SumToRoot(s);
-  if (rank != 0) return {};
-  const double* p = all.data();
-  for (int r = 0; r < ranks; ++r)
-    for (auto& rule : solves.outcomes)
-      for (long i = r; i < options.starts; i += ranks, p += record) {
-        if (p[0] == 0) continue;
-        rule[i].coefficients = Eigen::Map<const Eigen::Matrix<double, -1, -1, Eigen::RowMajor>>(p + 1, rows, cols);
-        rule[i].frequencies.assign(p + 1 + rows * cols, p + record);
-      }
-  MonteCarloSummary summary = CensusOfStarts(problem, options, solves);
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  return summary;
 }
 
 }  // namespace
@@ -132,88 +58,46 @@ void AddMonteCarloOptions(CLI::App* app, MonteCarloArgs* a) {
 }
 
 int RunMonteCarlo(const MonteCarloArgs& a, int rank, int ranks) {
-  SolveSettings settings;
+  ModelSettings settings;
   settings.model = a.model;
   settings.set = a.set;
-  settings.order = a.order;
-  settings.solver = a.solver;
-  settings.max_iterations = a.max_iterations;
-  const PreparedSolve prepared = PrepareSolve(settings);
-  const ProblemSource& source = prepared.source;
-
+  settings.solve.order = a.order;
+  settings.solve.solver = a.solver;
+  settings.solve.max_iterations = a.max_iterations;
+  const PreparedSolve prepared = Prepare(settings);
   const std::vector<double> range = ParseNumberList(a.range, "--range");
   if (range.size() != 2 || !(range[0] < range[1]))
     throw std::invalid_argument("--range expects lo:hi with lo < hi, got '" + a.range + "'");
-  MonteCarloOptions options;
-  options.starts = a.starts;
-  options.low = range[0];
-  options.high = range[1];
-  options.seed = a.seed;
-  options.threads = a.threads;
-  options.reference_order = a.reference_order;
-  options.match_tolerance = a.match_tolerance;
-  options.solve = prepared.options;
-  options.rules.clear();
-  std::string item;
-  for (char c : a.methods + ",") {
-    if (c != ',') {
-      item += c;
-      continue;
-    }
-    options.rules.push_back(ParseSamplingRule(item));
-    item.clear();
-  }
-  if (isatty(STDERR_FILENO) && rank == 0) options.progress = ShowProgress;
-  if (source.original && !a.no_floquet)
-    options.original_check = [&source](const HarmonicSolution& s) {
-      integrators::FloquetOptions fo;
-      fo.autonomous = source.problem.num_unknown_frequencies() > 0;
-      if (source.stiff) fo.integrator.method = integrators::IntegratorOptions::Method::kBdf;
-      const integrators::FloquetReport f = integrators::FloquetMultipliers(
-          source.original(s.frequencies()), source.state(s, 0.0), 0.0, 2 * M_PI / s.frequencies()[0], fo);
-      return OriginalCheck{f.ok, f.stable, f.multipliers, f.closure_error, f.message};
-    };
-  const MonteCarloSummary summary = Census(source.problem, options, rank, ranks);
+  CensusOptions options;
+  MonteCarloOptions& mc = options.monte_carlo;
+  mc.starts = a.starts;
+  mc.low = range[0];
+  mc.high = range[1];
+  mc.seed = a.seed;
+  mc.threads = a.threads;
+  mc.reference_order = a.reference_order;
+  mc.match_tolerance = a.match_tolerance;
+  mc.solve = prepared.options;
+  mc.rules.clear();
+  std::stringstream methods(a.methods + ",");
+  for (std::string item; std::getline(methods, item, ',');) mc.rules.push_back(ParseSamplingRule(item));
+  if (isatty(STDERR_FILENO) && rank == 0) mc.progress = ShowProgress;
+  options.floquet = !a.no_floquet;
+  CensusSummary summary = Census(prepared.model, options, [&](const HarmonicBalanceProblem& p, const MonteCarloOptions& o) {
+    return sweep::DistributedMonteCarlo(p, o, rank, ranks);
+  });
   if (rank != 0) return kExitOk;
-
-  bool all_failed = false;
-  json methods = json::array();
-  for (const auto& r : summary.rules) {
-    all_failed = all_failed || r.converged == 0;
-    json clusters = json::array();
-    for (const auto& c : r.clusters) clusters.push_back(ClusterJson(c));
-    methods.push_back({{"method", ToString(r.rule)},
-                       {"samples", r.samples},
-                       {"alias_free_samples", r.alias_free_samples},
-                       {"alias_free", r.samples >= r.alias_free_samples},
-                       {"converged", r.converged},
-                       {"failed", r.failed},
-                       {"distinct_solutions", r.clusters.size()},
-                       {"non_physical_solutions", r.non_physical_clusters()},
-                       {"shares", {{"physical_stable", Number(r.share(SolutionClass::kPhysicalStable))},
-                                   {"physical_unstable", Number(r.share(SolutionClass::kPhysicalUnstable))},
-                                   {"non_physical", Number(r.share(SolutionClass::kNonPhysical))}}},
-                       {"solve_cpu_seconds", r.solve_seconds},
-                       {"clusters", clusters}});
-  }
+  summary.ranks = ranks;
   if (a.json) {
-    json out = {{"model", a.model},        {"starts", summary.starts},
-                {"range", {range[0], range[1]}}, {"seed", a.seed},
-                {"order", summary.order},  {"reference_order", summary.reference_order},
-                {"match_tolerance", a.match_tolerance},
-                {"threads", summary.threads}, {"ranks", ranks}, {"seconds", summary.seconds},
-                {"methods", methods}};
+    nlohmann::json out = summary.ToJson();
+    out["model"] = a.model;
     std::cout << out.dump(1) << "\n";
   } else {
-    std::printf("%s: %s\n%ld starts, every coefficient uniform in [%g, %g], seed %llu; reference: "
-                "alias-free RHB at order %d; %d threads x %d rank(s), %.3f s\n\n%s",
-                source.name.c_str(), source.equation.c_str(), summary.starts, range[0], range[1],
-                static_cast<unsigned long long>(a.seed), summary.reference_order, summary.threads,
-                ranks, summary.seconds, summary.FullReport().c_str());
+    std::printf("%s: %s\n%s", prepared.model.name.c_str(), prepared.model.equation.c_str(), summary.FullReport().c_str());
   }
-  if (all_failed) {
+  if (summary.status == CensusStatus::kNoneConverged) {
     std::fprintf(stderr, "rmhb: not converged: a method converged from none of the %ld starts\n",
-                 summary.starts);
+                 summary.monte_carlo.starts);
     return kExitNotConverged;
   }
   return kExitOk;

@@ -9,13 +9,11 @@
 #include <fstream>
 #include <iostream>
 
-#include "integrators/cvode_integrator.h"
-#include "integrators/ida_integrator.h"
-#include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/cli/plot.h"
-#include "rmhb/cli/problem_source.h"
-#include "rmhb/cli/solve_setup.h"
+#include "examples/example_model.h"
+#include "rmhb/pipeline/settings.h"
+#include "rmhb/pipeline/simulate.h"
 
 namespace rmhb::cli {
 namespace {
@@ -64,81 +62,45 @@ void AddSimulateOptions(CLI::App* app, SimulateArgs* a) {
 }
 
 int RunSimulate(const SimulateArgs& a) {
-  const ProblemSource source = LoadProblem(a.model, ParseOverrides(a.set));
-  if (!source.original && !source.original_dae)
-    throw std::invalid_argument("cannot integrate the model: " + source.original_error);
+  const Model model = examples::LoadModelOrExample(a.model, ParseOverrides(a.set));
   if (!a.plot.empty()) CheckPlotRequest(a.plot);
   if (a.json && a.csv.empty()) throw std::invalid_argument("--json needs --csv FILE for the trajectory");
-  const std::vector<double>& w = source.problem.frequencies;
-  const double w_min = *std::min_element(w.begin(), w.end());
-  const double w_max = *std::max_element(w.begin(), w.end());
-  const double t_end = a.t_end_given ? a.t_end : 20 * 2 * M_PI / w_min;
-  const double dt = a.dt_given ? a.dt : 2 * M_PI / w_max / 64;
-  if (!(t_end > 0) || !std::isfinite(t_end)) throw std::invalid_argument("--t-end must be a finite number > 0");
-  if (!(dt > 0) || !std::isfinite(dt)) throw std::invalid_argument("--dt must be a finite number > 0");
-  if (!(a.rtol > 0) || !(a.atol > 0) || !std::isfinite(a.rtol) || !std::isfinite(a.atol))
-    throw std::invalid_argument("--rtol and --atol must be finite numbers > 0");
-  const double count = std::floor(t_end / dt + 1e-9) + 1;
-  if (count > 5e7) throw std::invalid_argument("--t-end/--dt would write " + std::to_string(count) + " rows (at most 5e7)");
-  std::vector<double> times(static_cast<size_t>(count));
-  for (size_t i = 0; i < times.size(); ++i) times[i] = i * dt;
-
-  integrators::IntegratorOptions io;
-  const bool bdf = a.integrator == "bdf" || (a.integrator == "auto" && source.stiff);
-  io.method = bdf ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
-  io.relative_tolerance = a.rtol;
-  io.absolute_tolerance = a.atol;
-  // A model with algebraic equations goes to IDA, which makes y'(0) and the
-  // algebraic part of the initial state consistent (IDACalcIC) first.
-  const integrators::IntegrationResult r = SimulateOriginal(source, w, source.initial_state, times, io);
-
+  SimulateOptions options;
+  if (a.t_end_given) options.t_end = a.t_end;
+  if (a.dt_given) options.dt = a.dt;
+  options.relative_tolerance = a.rtol;
+  options.absolute_tolerance = a.atol;
+  options.method = a.integrator == "bdf"     ? SimulateOptions::Method::kBdf
+                   : a.integrator == "adams" ? SimulateOptions::Method::kAdams
+                                             : SimulateOptions::Method::kAuto;
+  const SimulateSummary s = Simulate(model, options);
+  const integrators::IntegrationResult& r = s.result;
   if (!a.csv.empty()) {
     std::ofstream out(a.csv);
     if (!out) throw std::invalid_argument("--csv: cannot write '" + a.csv + "'");
-    WriteCsv(out, source.state_names, r.trajectory);
+    WriteCsv(out, model.state_names, r.trajectory);
   }
   if (!a.plot.empty() && r.trajectory.size() > 0) {
     char tolerance[32];
     std::snprintf(tolerance, sizeof tolerance, "%g", a.rtol);
-    Plot plot{source.name + ": " + source.equation + " (" + r.solver + ", rtol " + tolerance + ")", {}};
+    Plot plot{model.name + ": " + model.equation + " (" + r.solver + ", rtol " + tolerance + ")", {}};
     PlotPanel panel{"time response from the initial state", "t", "state", false, false, {}};
     for (int j = 0; j < r.trajectory.dimension(); ++j) {
       const Eigen::VectorXd c = r.trajectory.Component(j);
-      panel.series.push_back({source.state_names[j], r.trajectory.times, std::vector<double>(c.data(), c.data() + c.size()), PlotSeries::Style::kLines, {}});
+      panel.series.push_back({model.state_names[j], r.trajectory.times, std::vector<double>(c.data(), c.data() + c.size()), PlotSeries::Style::kLines, {}});
     }
     plot.panels.push_back(panel);
     WritePlot(plot, a.plot);
   }
-  json out{{"status", r.ok() ? "ok" : "failed"},
-           {"message", r.message},
-           {"integrator", r.solver},
-           {"rtol", a.rtol},
-           {"atol", a.atol},
-           {"t_end", t_end},
-           {"dt", dt},
-           {"rows", r.trajectory.size()},
-           {"steps", r.steps},
-           {"rhs_evaluations", r.rhs_evaluations},
-           {"seconds", r.seconds},
-           {"states", source.state_names}};
-  json initial = json::array(), last = json::array();
-  for (int j = 0; j < source.initial_state.size(); ++j) initial.push_back(Number(source.initial_state(j)));
-  if (r.trajectory.size() > 0)
-    for (int j = 0; j < r.trajectory.dimension(); ++j) last.push_back(Number(r.trajectory.states(r.trajectory.size() - 1, j)));
-  out["initial_state"] = initial;
-  out["final_state"] = last;
+  json out = s.ToJson();
   if (!a.csv.empty()) out["csv"] = a.csv;
   if (!a.plot.empty()) out["plot"] = a.plot;
-  if (a.json) {
+  if (a.json)
     std::cout << out.dump(1) << "\n";
-  } else if (a.csv.empty()) {
-    WriteCsv(std::cout, source.state_names, r.trajectory);
-  } else {
-    std::printf("%s: %s\n%s, rtol %g, atol %g: %d rows to t = %g in %ld steps, %.1f ms -> %s\n",
-                source.name.c_str(), source.equation.c_str(), r.solver.c_str(), a.rtol, a.atol,
-                r.trajectory.size(), r.trajectory.size() ? r.trajectory.times.back() : 0.0, r.steps,
-                r.seconds * 1e3, a.csv.c_str());
-  }
+  else if (a.csv.empty())
+    WriteCsv(std::cout, model.state_names, r.trajectory);
+  else
+    std::printf("%s: %s\n%s -> %s\n", model.name.c_str(), model.equation.c_str(), s.BriefReport().c_str(), a.csv.c_str());
   if (!r.ok()) {
     std::fprintf(stderr, "rmhb: integration failed: %s\n", r.message.c_str());
     return kExitNotConverged;

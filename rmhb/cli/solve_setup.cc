@@ -2,50 +2,13 @@
 
 #include <CLI/CLI.hpp>
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "rmhb/cli/commands.h"
+#include "examples/example_model.h"
 
 namespace rmhb::cli {
 namespace {
-
-using nlohmann::json;
-
-json Coefficients(const HarmonicSolution& s, int j) {
-  const auto& c = s.coefficients();
-  json cos = json::array(), sin = json::array();
-  cos.push_back(Number(c(j, 0)));
-  sin.push_back(0.0);
-  for (int k = 1; k < s.basis().size(); ++k) {
-    cos.push_back(Number(c(j, 2 * k - 1)));
-    sin.push_back(Number(c(j, 2 * k)));
-  }
-  return {{"cos", cos}, {"sin", sin}};
-}
-
-// --frequencies "w1,?w2": values of known bases, guesses of unknown ones.
-void ApplyFrequencies(const std::string& text, HarmonicBalanceProblem* problem) {
-  const int bases = static_cast<int>(problem->frequencies.size());
-  std::vector<std::string> items;
-  std::string item;
-  for (char c : text + ",") {
-    if (c == ',') items.push_back(item), item.clear();
-    else item += c;
-  }
-  if (static_cast<int>(items.size()) != bases)
-    throw std::invalid_argument("--frequencies: the model has " + std::to_string(bases) +
-                                " base frequencies, got " + std::to_string(items.size()));
-  if (problem->unknown_frequency.empty()) problem->unknown_frequency.assign(bases, false);
-  for (int b = 0; b < bases; ++b) {
-    const bool unknown = !items[b].empty() && items[b][0] == '?';
-    const double w = ParseNumberList(unknown ? items[b].substr(1) : items[b], "--frequencies")[0];
-    if (!(w > 0)) throw std::invalid_argument("--frequencies: frequencies must be > 0");
-    problem->frequencies[b] = w;
-    if (unknown) problem->unknown_frequency[b] = true;
-  }
-}
 
 // "1e9" as 1000000000 for integer options, so that a size written as a
 // power of ten reaches the size checks (exit 2 naming the memory it needs)
@@ -64,62 +27,12 @@ std::string WholeNumber(std::string text) {
 
 }  // namespace
 
-std::pair<std::string, double> ParseAssignment(const std::string& text) {
-  const auto eq = text.find('=');
-  if (eq == std::string::npos || eq == 0)
-    throw std::invalid_argument("--set expects name=value, got '" + text + "'");
-  const std::string name = text.substr(0, eq), value = text.substr(eq + 1);
-  size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != value.size())
-    throw std::invalid_argument("--set " + name + ": '" + value + "' is not a number");
-  if (!std::isfinite(v)) throw std::invalid_argument("--set " + name + ": value must be finite");
-  return {name, v};
-}
-
-std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments) {
-  std::map<std::string, double> values;
-  for (const auto& s : assignments) {
-    auto [name, v] = ParseAssignment(s);
-    values[name] = v;
-  }
-  return values;
-}
-
-json Number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
-std::vector<double> ParseNumberList(const std::string& text, const char* what) {
-  std::vector<double> out;
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    const size_t next = text.find_first_of(",:", pos);
-    const std::string item = text.substr(pos, next == std::string::npos ? std::string::npos : next - pos);
-    size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (item.empty() || used != item.size() || !std::isfinite(v))
-      throw std::invalid_argument(std::string(what) + ": '" + item + "' is not a finite number");
-    out.push_back(v);
-    if (next == std::string::npos) break;
-    pos = next + 1;
-  }
-  return out;
-}
-
-void AddSolveSettings(CLI::App* app, SolveSettings* a) {
-  app->add_option("model", a->model,
+void AddSolveSettings(CLI::App* app, ModelSettings* m) {
+  SolveSettings* a = &m->solve;
+  app->add_option("model", m->model,
                   "Example name (see `rmhb list`) or model file (examples/models/*.yaml)")
       ->required();
-  app->add_option("--set", a->set, "Override a parameter: --set name=value (repeatable)");
+  app->add_option("--set", m->set, "Override a parameter: --set name=value (repeatable)");
   app->add_option("--order,-N,--p", a->order,
                   "Harmonic order: N for one base frequency, p (|m|+|n| <= p) for several "
                   "(default: the model's)")
@@ -171,91 +84,11 @@ void AddSolveSettings(CLI::App* app, SolveSettings* a) {
       ->check(CLI::Range(1, 20000));
 }
 
-ProblemSource LoadSolveProblem(const SolveSettings& a, const std::map<std::string, double>& overrides) {
-  std::map<std::string, double> values = ParseOverrides(a.set);
+PreparedSolve Prepare(const ModelSettings& m, const std::map<std::string, double>& overrides) {
+  if (const std::string error = m.solve.IsValid(); !error.empty()) throw std::invalid_argument(error);
+  std::map<std::string, double> values = ParseOverrides(m.set);
   for (const auto& [name, value] : overrides) values[name] = value;
-  ProblemSource source = LoadProblem(a.model, values);
-  if (!a.frequencies.empty()) ApplyFrequencies(a.frequencies, &source.problem);
-  return source;
-}
-
-PreparedSolve PrepareSolve(const SolveSettings& a, const std::map<std::string, double>& overrides) {
-  if ((a.order_given || a.order != -1) && a.order < 1)
-    throw std::invalid_argument("--order must be >= 1 (got " + std::to_string(a.order) + ")");
-  if (!(a.residual_tol > 0) || !std::isfinite(a.residual_tol))
-    throw std::invalid_argument("--residual-tol must be finite and > 0 (got " + std::to_string(a.residual_tol) + ")");
-  if ((a.samples_given || a.samples != -1) && a.samples < 1)
-    throw std::invalid_argument("--samples must be >= 1 (got " + std::to_string(a.samples) + ")");
-  if (!(a.tol >= 0) || !std::isfinite(a.tol))
-    throw std::invalid_argument("--tol must be a finite number >= 0 (got " + std::to_string(a.tol) + ")");
-  if (!(a.max_jacobian_gib > 0) || !std::isfinite(a.max_jacobian_gib))
-    throw std::invalid_argument("--max-jacobian-gib must be finite and > 0");
-  ProblemSource source = LoadSolveProblem(a, overrides);
-  HarmonicBalanceProblem& problem = source.problem;
-  const int bases = static_cast<int>(problem.frequencies.size());
-
-  HarmonicBalanceOptions options;
-  options.order = a.order > 0 ? a.order : source.default_order;
-  options.rule = ParseSamplingRule(a.method);
-  if (a.samples > 0) options.samples.assign(bases, a.samples);
-  options.allow_aliasing = a.allow_aliasing;
-  options.tolerance = a.tol;
-  options.max_order = std::max(a.max_order, options.order);
-  options.solver.method = ParseSolverMethod(a.solver);
-  options.solver.max_iterations = a.max_iterations;
-  options.solver.scaling = ParseScaling(a.scaling);
-  options.solver.residual_tolerance = a.residual_tol;
-  options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;
-  options.quasi_periodic_sampling =
-      a.sampling == "gcd" ? QuasiPeriodicSampling::kGcd : QuasiPeriodicSampling::kTorus;
-  // An explicit --basis overrides the example's own index set.
-  if (source.basis_for_order && !a.shape_given) options.basis_for_order = source.basis_for_order;
-  options.max_jacobian_bytes = a.max_jacobian_gib * double(1L << 30);
-  CheckJacobianSize(problem, options);  // before a guess at that order is built
-  HarmonicSolution guess = GuessAtOrder(source, options.order);
-  return PreparedSolve{std::move(source), std::move(options), std::move(guess)};
-}
-
-json SolutionJson(const HarmonicSolution& sol) {
-  const int bases = static_cast<int>(sol.frequencies().size());
-  json out;
-  json freqs = json::array();
-  for (double w : sol.frequencies()) freqs.push_back(Number(w));
-  out["frequencies"] = freqs;
-  json coeffs = json::object(), aux = json::object();
-  for (int j = 0; j < sol.num_variables(); ++j) {
-    const auto& v = sol.variables()[j];
-    (v.role == VariableRole::kAuxiliary ? aux : coeffs)[v.name] = Coefficients(sol, j);
-  }
-  out["coefficients"] = coeffs;
-  json harmonics = json::array();
-  for (const auto& k : sol.basis().harmonics()) harmonics.push_back(bases == 1 ? json(k[0]) : json(k));
-  out["harmonics"] = harmonics;
-  out["auxiliary_coefficients"] = aux;
-  return out;
-}
-
-json PhysicalJson(const HarmonicBalanceSummary& summary) {
-  json out = json::object();
-  if (!summary.converged()) return out;
-  out["physical"] = summary.physical;
-  if (!summary.physical) out["non_physical"] = summary.non_physical;
-  if (const auto& c = summary.definition_check) {
-    out["definition_error"] = Number(c->error);
-    out["definition_worst"] = c->worst_variable;
-    out["definition_worst_time"] = Number(c->worst_time);
-    out["definition_tolerance"] = Number(c->tolerance);
-    out["definition_points"] = c->points;
-    out["definition_seconds"] = c->seconds;
-  }
-  return out;
-}
-
-std::string PhysicalLine(const HarmonicBalanceSummary& summary) {
-  if (!summary.converged()) return "";
-  if (!summary.physical) return "NO: " + summary.non_physical;
-  if (summary.definition_check) return "yes: " + summary.definition_check->Report();
-  return "yes (no collapsed frequency; no auxiliaries to check)";
+  return PrepareSolve(examples::LoadModelOrExample(m.model, values), m.solve);
 }
 
 }  // namespace rmhb::cli

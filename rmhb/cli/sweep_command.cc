@@ -33,12 +33,12 @@ std::map<std::string, double> AtValues(const ParameterGrid& grid, const std::vec
   return at;
 }
 
-SweepModel MakeSweepModel(const SweepArgs& a, const ParameterGrid& grid, const PreparedSolve& prepared) {
+SweepModel MakeSweepModel(const ParameterGrid& grid, const PreparedSolve& prepared) {
   SweepModel model;
-  model.build = [&a, &grid](const std::vector<double>& values) {
-    return LoadSolveProblem(a.settings, AtValues(grid, values)).problem;
+  model.build = [&prepared, &grid](const std::vector<double>& values) {
+    return WithParameters(prepared.model, AtValues(grid, values)).problem;
   };
-  if (prepared.source.guess) {
+  if (prepared.model.guess) {
     const HarmonicSolution guess = prepared.guess;
     model.guess = [guess](const HarmonicBalanceProblem& problem, int) {
       return guess.WithFrequencies(problem.frequencies);
@@ -54,10 +54,10 @@ std::string ReadFile(const std::string& path) {
 
 // What changes results: the fingerprint ties a journal to its sweep.
 json ResultOptions(const SweepArgs& a, const SweepOptions& o) {
-  return {{"order", o.solve.order},       {"method", a.settings.method}, {"samples", a.settings.samples},
-          {"solver", a.settings.solver},  {"scaling", a.settings.scaling},
-          {"max_iterations", a.settings.max_iterations}, {"residual_tol", a.settings.residual_tol},
-          {"frequencies", a.settings.frequencies}, {"starts", o.starts}, {"range", a.range},
+  return {{"order", o.solve.order},       {"method", a.settings.solve.method}, {"samples", a.settings.solve.samples},
+          {"solver", a.settings.solve.solver},  {"scaling", a.settings.solve.scaling},
+          {"max_iterations", a.settings.solve.max_iterations}, {"residual_tol", a.settings.solve.residual_tol},
+          {"frequencies", a.settings.solve.frequencies}, {"starts", o.starts}, {"range", a.range},
           {"seed", o.seed},               {"stability", o.stability},   {"cluster_tolerance", o.cluster_tolerance}};
 }
 
@@ -207,7 +207,7 @@ void AddSweepOptions(CLI::App* app, SweepArgs* a) {
 }
 
 int RunSweep(const SweepArgs& a, int rank, int ranks) {
-  if (a.settings.tol > 0) throw std::invalid_argument("--tol does not apply to sweep: give --order");
+  if (a.settings.solve.tol > 0) throw std::invalid_argument("--tol does not apply to sweep: give --order");
   std::vector<GridAxis> axes;
   for (const std::string& text : a.grid) axes.push_back(ParseGridAxis(text));
   const ParameterGrid grid(std::move(axes));
@@ -218,7 +218,7 @@ int RunSweep(const SweepArgs& a, int rank, int ranks) {
   const std::vector<double> range = ParseNumberList(a.range, "--range");
   if (range.size() != 2 || !(range[0] < range[1]))
     throw std::invalid_argument("--range expects lo:hi with lo < hi, got '" + a.range + "'");
-  const PreparedSolve prepared = PrepareSolve(a.settings, AtValues(grid, grid.Values(0)));
+  const PreparedSolve prepared = Prepare(a.settings, AtValues(grid, grid.Values(0)));
   SweepOptions options;
   options.solve = prepared.options;
   options.starts = a.starts;
@@ -231,19 +231,19 @@ int RunSweep(const SweepArgs& a, int rank, int ranks) {
   SweepFileInfo info;
   info.software = "rmhb " RMHB_VERSION_STRING;
   info.model = a.settings.model;
-  if (prepared.source.from_file) info.model_text = ReadFile(a.settings.model);
+  if (prepared.model.from_file) info.model_text = ReadFile(a.settings.model);
   for (const std::string& s : a.settings.set) info.parameters += (info.parameters.empty() ? "" : " ") + s;
   info.options = ResultOptions(a, options).dump();
   for (const GridAxis& x : grid.axes()) info.options += " " + x.name;
   info.fingerprint = Fingerprint(info) + "-" + std::to_string(grid.size());
-  for (const Variable& v : prepared.source.problem.system.variables()) info.variables.push_back(v.name);
+  for (const Variable& v : prepared.model.problem.system.variables()) info.variables.push_back(v.name);
 
   const std::string journal_dir = a.out + ".journal";
   if (fs::exists(journal_dir) && !a.resume)
     throw std::invalid_argument(journal_dir + " exists (an interrupted sweep): --resume finishes it, or remove it");
   Barrier();  // every rank has looked before any creates it
   const auto begin = std::chrono::steady_clock::now();
-  const SweepModel model = MakeSweepModel(a, grid, prepared);
+  const SweepModel model = MakeSweepModel(grid, prepared);
   const Totals totals = SolveLines(a, model, grid, options, journal_dir, info.fingerprint, rank, ranks);
   Barrier();  // every journal is complete
   if (rank != 0) return kExitOk;

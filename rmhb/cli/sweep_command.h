@@ -19,7 +19,7 @@ class App;
 namespace rmhb::cli {
 
 struct SweepArgs {
-  SolveSettings settings;
+  ModelSettings settings;
   std::vector<std::string> grid;
   int starts = 8;
   std::string range = "-2:2";

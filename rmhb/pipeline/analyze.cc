@@ -1,5 +1,6 @@
 #include "rmhb/pipeline/analyze.h"
 
+#include "rmhb/pipeline/report.h"
 #include "rmhb/pipeline/start.h"
 
 #include <algorithm>
@@ -73,7 +74,9 @@ std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const Analyz
   const bool settle = o.transient < 0 && bases == 1 && model.problem.num_unknown_frequencies() == 0;
   AnalyzeOptions record_options = o;
   if (settle) record_options.transient = 0;
-  RecordStage stage{Record(model, record_options, bases)};
+  RecordStage stage;
+  stage.record = Record(model, record_options, bases);
+  stage.integrator = OriginalIntegrator(model);
   auto t0 = Clock::now();
   Eigen::VectorXd y0 = model.initial_state;
   if (settle) {
@@ -149,6 +152,8 @@ AnalyzeSummary Analyze(const Model& model, const AnalyzeOptions& options) {
     throw std::invalid_argument("cannot integrate the model: " + model.original_error);
   AnalyzeSummary s;
   s.problem = model.problem;
+  s.solve_options = options.solve;
+  s.validate_periods = options.validate_periods;
   s.identified = options.identify;
   std::optional<HarmonicSolution> guess;
   if (options.identify)
@@ -193,20 +198,142 @@ std::string AnalyzeSummary::BriefReport() const {
   return out.str();
 }
 
-std::string AnalyzeSummary::FullReport() const {
-  std::ostringstream out;
-  if (trajectory)
-    out << "trajectory  " << trajectory->samples << " samples, t in [" << trajectory->record.transient << ", "
-        << trajectory->record.t_end << "], " << trajectory->seconds << " s\n";
-  if (identification)
-    out << "identify    " << frequency_id::ToString(identification->status) << ", "
-        << identification->components.size() << " lines, " << identify_seconds << " s\n";
-  if (seed) out << "seed        " << seed->Report() << "\n";
-  if (solve) out << "solve       " << solve->BriefReport() << "\n";
-  if (validation)
-    out << "validate    max error " << validation->max_error << " over [0, " << validation_t_end << "] against "
-        << validation->integrator << (verdict ? ", " + verdict->Describe() : std::string()) << "\n";
-  return out.str() + BriefReport();
+namespace {
+
+using nlohmann::json;
+
+template <typename... Args>
+std::string Format(const char* format, Args... args) {
+  char text[512];
+  std::snprintf(text, sizeof text, format, args...);
+  return text;
+}
+
+// The stages as JSON and as text lines, built together so they agree.
+struct Stages {
+  json stages = json::object();
+  std::vector<std::string> lines;
+};
+
+void ReportIdentification(const AnalyzeSummary& s, Stages* out) {
+  const seeding::RecordOptions& record = s.trajectory->record;
+  out->lines.push_back(
+      Format("%-10s %9.1f ms  %s rtol %.0e: %d samples, t in [%g, %g], dt %.4g", "trajectory",
+             s.trajectory->seconds * 1e3, s.trajectory->integrator.c_str(), record.integrator.relative_tolerance,
+             s.trajectory->samples, record.transient, record.t_end, record.dt) +
+      (s.trajectory->settle_periods > 0
+           ? " after the motion settled (" + std::to_string(s.trajectory->settle_periods) + " periods)"
+           : std::string()));
+  out->stages["trajectory"] = {{"seconds", s.trajectory->seconds}, {"samples", s.trajectory->samples},
+                               {"transient", record.transient}, {"t_end", record.t_end}, {"dt", record.dt},
+                               {"relative_tolerance", record.integrator.relative_tolerance},
+                               {"settle_periods", s.trajectory->settle_periods}};
+  if (!s.identification) return;
+  const frequency_id::IdentificationSummary& id = *s.identification;
+  json& identify = out->stages["identify"];
+  identify = {{"seconds", s.identify_seconds}, {"status", ToString(id.status)}, {"message", id.message},
+              {"window_order", id.window_order}, {"lines", id.components.size()}, {"explained", id.num_explained}};
+  std::string report = Format("%-10s %9.1f ms  %s, %zu lines (%d explained), Hann^%d, bases", "identify",
+                              s.identify_seconds * 1e3, ToString(id.status), id.components.size(), id.num_explained,
+                              id.window_order);
+  // The bases as selected (any basis of the lattice); the seed maps them to the model's.
+  json selected = json::array();
+  for (size_t i = 0; i < id.bases.size(); ++i) {
+    selected.push_back(JsonNumber(id.bases[i].frequency));
+    report += Format("%s b%zu = %.12g", i ? "," : "", i + 1, id.bases[i].frequency);
+  }
+  identify["selected_bases"] = selected;
+  out->lines.push_back(report);
+  if (!s.seed) return;
+  const seeding::IdentifiedGuess& seed = *s.seed;
+  json identified = json::array();
+  for (size_t b = 0; b < seed.frequencies.size(); ++b)
+    identified.push_back({{"frequency", JsonNumber(seed.frequencies[b])},
+                          {"uncertainty", JsonNumber(seed.uncertainties[b])},
+                          {"known", !Unknown(s.problem, static_cast<int>(b))}});
+  identify["bases"] = identified;
+  out->stages["seed"] = {{"seconds", s.seed_seconds}, {"lines_used", seed.lines_used},
+                         {"lines_dropped", seed.lines_dropped}, {"energy_on_basis", JsonNumber(seed.energy_on_basis)},
+                         {"fitted_harmonics", seed.fitted_harmonics}, {"coordinates", seed.coordinates},
+                         {"phase_shift", seed.phase_shift}, {"condition_residual", JsonNumber(seed.condition_residual)}};
+  out->lines.push_back(Format("%-10s %9.1f ms  ", "seed", s.seed_seconds * 1e3) + seed.Report());
+}
+
+void ReportSolve(const AnalyzeSummary& s, Stages* out) {
+  const HarmonicBalanceSummary& summary = *s.solve;
+  const HarmonicBalanceOptions& options = s.solve_options;
+  const bool converged = summary.converged();
+  const int bases = static_cast<int>(s.problem.frequencies.size());
+  const int unknowns =
+      summary.solution ? summary.solution->num_variables() * summary.solution->basis().num_coefficients() : 0;
+  json& solve = out->stages["solve"];
+  solve = {{"seconds", summary.seconds}, {"status", converged ? "converged" : ToString(summary.solver.status)},
+           {"iterations", summary.solver.iterations}, {"residual", JsonNumber(summary.solver.final_residual)},
+           {"method", ToString(options.rule)}, {"solver", ToString(summary.solver.method)},
+           {"order", options.order}, {"harmonics", summary.solution ? summary.solution->basis().size() : 0},
+           {"coefficients", unknowns}, {"alias_free", summary.alias_free}, {"degree", summary.degree},
+           {"samples", summary.samples.size() == 1 ? json(summary.samples[0]) : json(summary.samples)}};
+  out->lines.push_back(Format("%-10s %9.1f ms  %s %s order %d: %s after %d iterations, max|F| %.3e", "solve",
+                              summary.seconds * 1e3, bases == 1 ? "RHB" : "RMHB", ToString(options.rule),
+                              options.order, converged ? "converged" : "NOT converged", summary.solver.iterations,
+                              summary.solver.final_residual));
+  solve.update(PhysicalJson(summary));
+  if (converged) out->lines.push_back("physical" + std::string(17, ' ') + PhysicalLine(summary));
+  if (!converged || !out->stages.contains("identify") || !out->stages["identify"].contains("bases")) return;
+  const std::vector<double>& w = summary.solution->frequencies();
+  for (int b = 0; b < bases; ++b) {
+    json& base = out->stages["identify"]["bases"][b];
+    base["solved"] = JsonNumber(w[b]);
+    base["difference"] = JsonNumber(w[b] - base["frequency"].get<double>());
+    out->lines.push_back(Format("%-10s w%d identified %.15g +- %.1e, solved %.15g, difference %+.2e%s", "", b + 1,
+                                base["frequency"].get<double>(), base["uncertainty"].get<double>(), w[b],
+                                w[b] - base["frequency"].get<double>(), Unknown(s.problem, b) ? "" : " (known)"));
+  }
+}
+
+void ReportValidation(const AnalyzeSummary& s, Stages* out) {
+  const integrators::ValidationReport& v = *s.validation;
+  const bool within = s.verdict && s.verdict->ok;
+  out->stages["validate"] = {{"seconds", v.seconds}, {"status", !v.ok ? "failed" : within ? "ok" : "exceeds"},
+                             {"max_error", JsonNumber(v.max_error)}, {"t_end", s.validation_t_end},
+                             {"relative_error", JsonNumber(s.verdict ? s.verdict->relative_error : NAN)},
+                             {"tolerance", s.verdict ? s.verdict->tolerance : NAN},
+                             {"periods", s.validate_periods}, {"integrator", v.integrator}, {"message", v.message}};
+  out->lines.push_back(
+      Format("%-10s %9.1f ms  %s: max error %.3e (relative %.2e, tolerance %.0e) over t in [0, %g] against %s",
+             "validate", v.seconds * 1e3, !v.ok ? "FAILED" : within ? "ok" : "EXCEEDS", v.max_error,
+             s.verdict ? s.verdict->relative_error : NAN, s.verdict ? s.verdict->tolerance : NAN, s.validation_t_end,
+             v.integrator.c_str()) +
+      (v.message.empty() ? std::string() : " (" + v.message + ")"));
+}
+
+Stages Report(const AnalyzeSummary& s) {
+  Stages out;
+  if (s.trajectory) ReportIdentification(s, &out);
+  if (s.solve) ReportSolve(s, &out);
+  if (s.validation) ReportValidation(s, &out);
+  return out;
+}
+
+}  // namespace
+
+std::string AnalyzeSummary::status_word() const {
+  return status == AnalyzeStatus::kNotConverged && solve ? ToString(solve->solver.status) : ToString(status);
+}
+
+std::string AnalyzeSummary::StageReport() const {
+  std::string out;
+  for (const std::string& line : Report(*this).lines) out += line + "\n";
+  return out;
+}
+
+std::string AnalyzeSummary::FullReport() const { return StageReport() + BriefReport(); }
+
+json AnalyzeSummary::ToJson() const {
+  json out = {{"status", status_word()}, {"message", message}, {"identified", identified},
+              {"stages", Report(*this).stages}};
+  if (solved()) out.update(SolutionJson(*solve->solution));
+  return out;
 }
 
 }  // namespace rmhb

@@ -16,6 +16,8 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "frequency_id/frequency_identification.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/harmonic_balance.h"
@@ -53,6 +55,7 @@ const char* ToString(AnalyzeStatus status);
 
 struct RecordStage {
   seeding::RecordOptions record;
+  std::string integrator;  // OriginalIntegrator: "CVODE Adams", "CVODE BDF", "IDA BDF"
   int settle_periods = 0;  // periods integrated until the motion settled (0: a fixed transient)
   int samples = 0;
   double seconds = 0;
@@ -68,6 +71,8 @@ struct AnalyzeSummary {
   std::optional<seeding::IdentifiedGuess> seed;
   double seed_seconds = 0;
   HarmonicBalanceProblem problem;  // as solved: the identified frequencies as guesses
+  HarmonicBalanceOptions solve_options;  // as solved
+  int validate_periods = 0;
   std::optional<HarmonicBalanceSummary> solve;
   std::optional<integrators::ValidationReport> validation;
   std::optional<ValidationVerdict> verdict;
@@ -75,8 +80,21 @@ struct AnalyzeSummary {
   double seconds = 0;
 
   bool ok() const { return status == AnalyzeStatus::kConverged; }
+  // Solved (converged and physical), validated or not within the tolerance.
+  bool solved() const { return ok() || status == AnalyzeStatus::kValidationExceeded; }
+  // The status as `rmhb analyze` reports it: the solver's own status
+  // ("no_convergence", ...) when the solve did not converge.
+  std::string status_word() const;
   std::string BriefReport() const;
-  std::string FullReport() const;  // one line per stage
+  // One line per stage: trajectory, identify (bases), seed, solve,
+  // physical, the frequencies identified against solved, validate.
+  std::string StageReport() const;
+  std::string FullReport() const;  // StageReport() and BriefReport()
+  // `rmhb analyze --json` without the command line's fields (model, the
+  // total seconds with the model's loading, plot): status, message,
+  // identified, stages {trajectory, identify, seed, solve, validate} and the
+  // solution (SolutionJson) when solved.
+  nlohmann::json ToJson() const;
 };
 
 AnalyzeSummary Analyze(const Model& model, const AnalyzeOptions& options);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -9,6 +10,7 @@
 #include <stdexcept>
 
 #include "rmhb/model/recast.h"
+#include "rmhb/pipeline/report.h"
 #include "rmhb/model/taylor_expansion.h"
 #include "rmhb/pointwise_collocation.h"
 
@@ -347,6 +349,15 @@ ConvergenceSummary ConvergenceStudy(const Model& source, const ConvergenceOption
         summary.columns.push_back(std::move(col.column));
       }
   summary.error_measure = ErrorMeasure(source, source.problem.system.variables()[0].name);
+  summary.model_name = source.name;
+  summary.equation = source.equation;
+  summary.reference_source = source.reference.source;
+  summary.degree = source.problem.system.Degree();
+  summary.bases = static_cast<int>(source.problem.frequencies.size());
+  summary.taylor_order = options.taylor_order;
+  summary.original_samples = options.original_samples;
+  summary.original_listed = std::count(options.methods.begin(), options.methods.end(), StudyMethod::kOriginal) > 0;
+  for (const auto& col : summary.columns) summary.original_listed |= col.method == StudyMethod::kOriginal;
   return summary;
 }
 
@@ -355,6 +366,99 @@ std::string ConvergenceSummary::BriefReport() const {
   out << "convergence study: " << columns.size() << " columns x " << orders.size() << " orders, " << converged
       << " converged (" << physical << " physical); error: " << error_measure << "\n";
   return out.str();
+}
+
+namespace {
+
+using nlohmann::json;
+
+json CellJson(int order, const ConvergenceCell& c) {
+  return {{"order", order}, {"status", c.status}, {"message", c.message}, {"samples", c.samples},
+          {"iterations", c.iterations}, {"residual", JsonNumber(c.residual)}, {"seconds", JsonNumber(c.seconds)},
+          {"reciprocal_condition", JsonNumber(c.reciprocal_condition)},
+          {"error", JsonNumber(c.error)}, {"frequency_error", JsonNumber(c.frequency_error)},
+          {"amplitude_error", JsonNumber(c.amplitude_error)}, {"max_error", JsonNumber(c.max_error)},
+          {"trajectory_error", JsonNumber(c.trajectory_error)}, {"physical", c.physical},
+          {"non_physical", c.non_physical}, {"definition_error", JsonNumber(c.definition_error)}};
+}
+
+std::string CellText(const ConvergenceCell& c) {
+  char buf[64];
+  if (c.status == "converged" && !c.physical)  // '!': see the note under the table
+    std::snprintf(buf, sizeof buf, "%7.1e! %8.2f %5d", c.error, c.seconds * 1e3, c.samples);
+  else if (c.status == "converged" && std::isfinite(c.error))
+    std::snprintf(buf, sizeof buf, "%8.1e %8.2f %5d", c.error, c.seconds * 1e3, c.samples);
+  else if (c.status == "converged")
+    std::snprintf(buf, sizeof buf, "%8s %8.2f %5d", "n/a", c.seconds * 1e3, c.samples);
+  else if (std::isfinite(c.residual))
+    std::snprintf(buf, sizeof buf, "fails |F| %7.1e %5d", c.residual, c.samples);
+  else
+    std::snprintf(buf, sizeof buf, "%-23s", c.status.substr(0, 23).c_str());
+  return buf;
+}
+
+template <typename... Args>
+std::string Format(const char* format, Args... args) {
+  char text[1024];
+  std::snprintf(text, sizeof text, format, args...);
+  return text;
+}
+
+// What the table leaves out: columns not run, non-physical and refused cells.
+std::string ColumnNotes(const ConvergenceSummary& study) {
+  std::string out;
+  for (const auto& col : study.columns) {
+    if (!col.unavailable.empty()) out += col.name + ": not run: " + col.unavailable + "\n";
+    for (size_t i = 0; i < col.cells.size(); ++i)
+      if (col.cells[i].converged() && !col.cells[i].physical)
+        out += Format("%s, order %d: ! NON-PHYSICAL: %s\n", col.name.c_str(), study.orders[i],
+                      col.cells[i].non_physical.c_str());
+    for (size_t i = 0; i < col.cells.size(); ++i)
+      if (col.cells[i].status == "refused") {
+        out += Format("%s, order %d: refused: %s\n", col.name.c_str(), study.orders[i], col.cells[i].message.c_str());
+        break;
+      }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string ConvergenceSummary::FullReport() const {
+  std::string out = Format("%s: %s  (recast degree phi = %d)\n", model_name.c_str(), equation.c_str(), degree);
+  out += "error: " + error_measure + (reference_source.empty() ? "" : "; ") + reference_source + "\n";
+  out += Format("cells: error, run time [ms], samples M\n\n%5s", bases == 1 ? "N" : "p");
+  for (const auto& col : columns) out += Format(" | %-23s", col.name.c_str());
+  out += "\n";
+  for (size_t i = 0; i < orders.size(); ++i) {
+    out += Format("%5d", orders[i]);
+    for (const auto& col : columns) out += " | " + CellText(col.cells[i]);
+    out += "\n";
+  }
+  out += ColumnNotes(*this);
+  if (taylor_degree >= 0)
+    out += Format("taylor: the non-polynomial terms replaced by their Taylor polynomials of order %d (phi = %d)\n",
+                  taylor_order, taylor_degree);
+  if (original_listed)
+    out += "original: HB-AFT on the original right-hand side, M = " +
+           (original_samples > 0 ? std::to_string(original_samples) : std::string("the recast's AFT count")) +
+           " (aliases)\n";
+  return out;
+}
+
+json ConvergenceSummary::ToJson() const {
+  json cols = json::array();
+  for (const auto& col : columns) {
+    json rows = json::array();
+    for (size_t i = 0; i < col.cells.size(); ++i) rows.push_back(CellJson(orders[i], col.cells[i]));
+    cols.push_back({{"name", col.name}, {"method", ToString(col.method)}, {"solver", ToString(col.solver)},
+                    {"conditions", ToString(col.scheme)}, {"unavailable", col.unavailable}, {"rows", rows}});
+  }
+  json out{{"equation", equation}, {"error_measure", error_measure},
+           {"reference", reference_source.empty() ? "CVODE trajectory" : reference_source},
+           {"orders", orders}, {"degree", degree}, {"columns", cols}};
+  if (taylor_degree >= 0) out["taylor"] = {{"order", taylor_order}, {"degree", taylor_degree}};
+  return out;
 }
 
 }  // namespace rmhb

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "rmhb/harmonic_balance.h"
 #include "rmhb/pipeline/model.h"
 
@@ -86,7 +88,20 @@ struct ConvergenceSummary {
   std::string error_measure;  // what `error` is
   int taylor_degree = -1;     // phi of the Taylor system, when a taylor column ran
   int converged = 0, physical = 0;  // cells
+  // The model and the options, for the reports.
+  std::string model_name, equation, reference_source;
+  int degree = 0, bases = 1, taylor_order = 0, original_samples = 0;
+  bool original_listed = false;  // an original column was asked for
   std::string BriefReport() const;
+  // The table of `rmhb convergence`: one row per order, per column the
+  // error, run time [ms] and samples ('!' after the error: non-physical),
+  // then the notes (columns not run, non-physical and refused cells, the
+  // Taylor and original variants).
+  std::string FullReport() const;
+  // `rmhb convergence --json` without the command line's fields (model,
+  // plot): equation, error_measure, reference, orders, degree, columns (name,
+  // method, solver, conditions, unavailable, rows of cells), taylor.
+  nlohmann::json ToJson() const;
 };
 
 ConvergenceSummary ConvergenceStudy(const Model& model, const ConvergenceOptions& options);

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 #include "integrators/cvode_integrator.h"
 #include "integrators/ida_integrator.h"
 #include "rmhb/model/recast.h"
+#include "rmhb/pipeline/settings.h"
 
 namespace rmhb {
 
@@ -70,7 +72,40 @@ Model LoadModel(const std::string& path, const std::map<std::string, double>& ov
   p.num_user_conditions = recast->num_user_conditions;
   p.definition = std::make_shared<const model::ModelDefinition>(definition);
   p.overrides = overrides;
+  p.reload = [path](const model::ParameterValues& values) { return LoadModel(path, values); };
   return p;
+}
+
+Model WithParameters(const Model& model, const model::ParameterValues& values) {
+  if (!model.reload) throw std::invalid_argument("the model '" + model.name + "' cannot be rebuilt with other parameters");
+  model::ParameterValues all = model.overrides;
+  for (const auto& [name, value] : values) all[name] = value;
+  Model out = model.reload(all);
+  if (!model.frequency_settings.empty()) SetFrequencies(model.frequency_settings, &out);
+  return out;
+}
+
+void SetFrequencies(const std::string& text, Model* model) {
+  HarmonicBalanceProblem* problem = &model->problem;
+  const int bases = static_cast<int>(problem->frequencies.size());
+  std::vector<std::string> items;
+  std::string item;
+  for (char c : text + ",") {
+    if (c == ',') items.push_back(item), item.clear();
+    else item += c;
+  }
+  if (static_cast<int>(items.size()) != bases)
+    throw std::invalid_argument("--frequencies: the model has " + std::to_string(bases) +
+                                " base frequencies, got " + std::to_string(items.size()));
+  if (problem->unknown_frequency.empty()) problem->unknown_frequency.assign(bases, false);
+  for (int b = 0; b < bases; ++b) {
+    const bool unknown = !items[b].empty() && items[b][0] == '?';
+    const double w = ParseNumberList(unknown ? items[b].substr(1) : items[b], "--frequencies")[0];
+    if (!(w > 0)) throw std::invalid_argument("--frequencies: frequencies must be > 0");
+    problem->frequencies[b] = w;
+    if (unknown) problem->unknown_frequency[b] = true;
+  }
+  model->frequency_settings = text;
 }
 
 namespace {

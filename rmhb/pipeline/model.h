@@ -70,7 +70,25 @@ struct Model {
   model::ParameterValues overrides;
   // Exact answers, when the model has them (the bundled examples).
   ExactReference reference;
+  // The same model with other parameter overrides (all of them, not only
+  // the changed ones): set by LoadModel and the built-in examples
+  // (examples/example_model.h), empty for a hand-made model. Continuation
+  // and sweeps rebuild the model through it (WithParameters).
+  std::function<Model(const model::ParameterValues& overrides)> reload;
+  // The base frequencies set by SetFrequencies, re-applied by WithParameters.
+  std::string frequency_settings;
 };
+
+// The model with `values` on top of its overrides (and its frequency
+// settings kept). Throws std::invalid_argument for a model that cannot be
+// rebuilt (no `reload`) or an unknown parameter, model::ModelError for a
+// model file's errors.
+Model WithParameters(const Model& model, const model::ParameterValues& values);
+
+// "w1,?w2": the values of known base frequencies and the guesses of unknown
+// ones ('?' makes a base unknown), one per base, each > 0. Throws
+// std::invalid_argument naming the item (as --frequencies).
+void SetFrequencies(const std::string& text, Model* model);
 
 // A model file with parameter overrides. Throws model::ModelError
 // (file:line:column) or std::invalid_argument (an unknown parameter).

@@ -1,8 +1,11 @@
 #include "rmhb/pipeline/stability.h"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
+
+#include "rmhb/pipeline/report.h"
 
 namespace rmhb {
 namespace {
@@ -93,6 +96,79 @@ StabilitySummary Stability(const Model& model, const HarmonicSolution& solution,
   if (s.hill && floquet_ok) s.max_multiplier_difference = MatchedDifference(s.hill->multipliers, s.floquet->multipliers);
   s.verdict = floquet_ok ? s.floquet_verdict : s.hill ? s.hill_verdict : StabilityVerdict::kUnknown;
   return s;
+}
+
+namespace {
+
+void AppendMultipliers(const std::vector<std::complex<double>>& multipliers, std::string* out) {
+  char text[128];
+  for (const auto& m : multipliers) {
+    std::snprintf(text, sizeof text, " %.10g%+.10gi (|%.6g|)", m.real(), m.imag(), std::hypot(m.real(), m.imag()));
+    *out += text;
+  }
+}
+
+}  // namespace
+
+std::string StabilitySummary::FullReport() const {
+  std::string out;
+  char text[256];
+  if (hill) {
+    std::snprintf(text, sizeof text, "stability    %-8s %-8s multipliers", "Hill", ToString(hill_verdict));
+    out += text;
+    AppendMultipliers(hill->multipliers, &out);
+    out += "\n";
+  } else {
+    out += "stability    Hill: " + hill_note + "\n";
+  }
+  if (!floquet) {
+    out += "stability    CVODE: " + floquet_note + "\n";
+  } else if (!floquet->ok) {
+    out += "stability    CVODE: integration failed: " + floquet->message + "\n";
+  } else {
+    std::snprintf(text, sizeof text, "stability    %-8s %-8s multipliers", "CVODE", ToString(floquet_verdict));
+    out += text;
+    AppendMultipliers(floquet->multipliers, &out);
+    out += "\n";
+  }
+  if (max_multiplier_difference && std::isfinite(*max_multiplier_difference)) {
+    std::snprintf(text, sizeof text, "stability    the two agree to %.3e (max |mu_Hill - mu_CVODE|), verdicts %s\n",
+                  *max_multiplier_difference, agree() ? "agree" : "DISAGREE");
+    out += text;
+  }
+  return out + "stability    " + ToString(verdict) + "\n";
+}
+
+nlohmann::json StabilitySummary::ToJson() const {
+  nlohmann::json out = nlohmann::json::object();
+  if (hill)
+    out["hill"] = {{"verdict", ToString(hill_verdict)},
+                   {"stable", hill->stable},
+                   {"multipliers", JsonComplex(hill->multipliers)},
+                   {"exponents", JsonComplex(hill->exponents)},
+                   {"max_real_part", JsonNumber(hill->max_real_part)},
+                   {"trivial", hill->trivial},
+                   {"seconds", hill->seconds}};
+  else
+    out["hill"] = {{"note", hill_note}};
+  if (floquet)
+    out["floquet"] = {{"ok", floquet->ok},
+                      {"verdict", ToString(floquet_verdict)},
+                      {"stable", floquet->stable},
+                      {"multipliers", JsonComplex(floquet->multipliers)},
+                      {"trivial", floquet->trivial},
+                      {"closure_error", JsonNumber(floquet->closure_error)},
+                      {"integrator", floquet_integrator},
+                      {"seconds", floquet->seconds},
+                      {"message", floquet->message}};
+  else
+    out["floquet"] = {{"note", floquet_note}};
+  if (max_multiplier_difference) {
+    out["max_multiplier_difference"] = JsonNumber(*max_multiplier_difference);
+    out["agree"] = agree();
+  }
+  out["verdict"] = ToString(verdict);
+  return out;
 }
 
 std::string StabilitySummary::BriefReport() const {

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "integrators/floquet.h"
 #include "rmhb/harmonic_solution.h"
 #include "rmhb/hill_stability.h"
@@ -47,6 +49,12 @@ struct StabilitySummary {
 
   bool agree() const { return hill_verdict == floquet_verdict; }
   std::string BriefReport() const;
+  // One line per method ("stability    Hill     stable   multipliers ..."),
+  // their agreement and the verdict (rmhb solve --stability).
+  std::string FullReport() const;
+  // {"hill": {...} | {"note"}, "floquet": {...} | {"note"},
+  //  "max_multiplier_difference", "agree", "verdict"} (solve --json).
+  nlohmann::json ToJson() const;
 };
 
 StabilitySummary Stability(const Model& model, const HarmonicSolution& solution, const StabilityOptions& options = {});

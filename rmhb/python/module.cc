@@ -1,7 +1,8 @@
 // The Python module `rmhb`: the library from notebooks and scripts, with
 // NumPy arrays. A model loads and solves exactly as the CLI's (the same
-// settings code, rmhb/cli/solve_setup.h), so a frequency from Python equals
-// `rmhb solve --json` to the last bit. Long calls release the GIL.
+// library calls: examples::LoadModelOrExample, PrepareSolve and the studies
+// of rmhb/pipeline/), so a frequency from Python equals `rmhb solve --json`
+// to the last bit. Long calls release the GIL.
 //   import rmhb
 //   m = rmhb.Model("examples/models/duffing.yaml", F=0.5)
 //   s = m.solve(order=20);  s.frequencies, s.eval(t)["x"], s.validate()
@@ -18,10 +19,12 @@
 #include <vector>
 
 #include "frequency_id/frequency_identification.h"
-#include "rmhb/cli/solve_setup.h"
-#include "rmhb/continuation.h"
+#include "examples/example_model.h"
+#include "rmhb/pipeline/branch.h"
 #include "rmhb/model/model_error.h"
 #include "rmhb/pipeline/analyze.h"
+#include "rmhb/pipeline/report.h"
+#include "rmhb/pipeline/settings.h"
 #include "rmhb/pipeline/stability.h"
 #include "rmhb/pipeline/start.h"
 #include "rmhb/version.h"
@@ -37,7 +40,7 @@ Array ToArray(const std::vector<double>& v) { return Array(static_cast<py::ssize
 
 // A solve's result, with the model it belongs to (for eval, validate, stability).
 struct Solution {
-  std::shared_ptr<const cli::ProblemSource> model;
+  std::shared_ptr<const rmhb::Model> model;
   HarmonicBalanceSummary summary;
 
   const HarmonicSolution& solution() const {
@@ -122,25 +125,18 @@ py::dict StabilityOf(const Solution& self) {
 
 std::string ToJson(const Solution& self) {
   nlohmann::json out = {{"status", self.status()}, {"order", self.summary.order},
-                        {"residual", cli::Number(self.summary.solver.final_residual)},
+                        {"residual", JsonNumber(self.summary.solver.final_residual)},
                         {"seconds", self.summary.seconds}};
-  out.update(cli::PhysicalJson(self.summary));
-  if (self.summary.solution) out.update(cli::SolutionJson(*self.summary.solution));
+  out.update(PhysicalJson(self.summary));
+  if (self.summary.solution) out.update(SolutionJson(*self.summary.solution));
   return out.dump();
 }
 
 // What the keyword arguments of Model.solve set, as the CLI's options would.
-cli::SolveSettings Settings(const std::string& model, const std::map<std::string, double>& parameters,
-                            std::optional<int> order, std::optional<int> p, std::optional<double> tol,
-                            const std::string& method, const std::string& solver,
-                            const std::optional<std::vector<double>>& frequencies) {
-  cli::SolveSettings s;
-  s.model = model;
-  for (const auto& [name, value] : parameters) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.17g", value);
-    s.set.push_back(name + "=" + text);
-  }
+SolveSettings Settings(std::optional<int> order, std::optional<int> p, std::optional<double> tol,
+                       const std::string& method, const std::string& solver,
+                       const std::optional<std::vector<double>>& frequencies) {
+  SolveSettings s;
   if (order && p) throw std::invalid_argument("give order or p, not both");
   if (order || p) s.order = order ? *order : *p, s.order_given = true;
   if (tol) s.tol = *tol;
@@ -171,58 +167,59 @@ struct Identification {
 
 class Model {
  public:
-  Model(std::string name, const py::kwargs& parameters) : name_(std::move(name)) {
-    for (const auto& [key, value] : parameters) parameters_[py::cast<std::string>(key)] = py::cast<double>(value);
-    model_ = std::make_shared<cli::ProblemSource>(cli::LoadSolveProblem(Settings(name_, parameters_, {}, {}, {}, "rhb", "auto", {})));
+  Model(const std::string& name, const py::kwargs& kwargs) {
+    std::map<std::string, double> parameters;
+    for (const auto& [key, value] : kwargs) parameters[py::cast<std::string>(key)] = py::cast<double>(value);
+    model_ = std::make_shared<rmhb::Model>(examples::LoadModelOrExample(name, parameters));
   }
 
   Solution Solve(std::optional<int> order, std::optional<int> p, std::optional<double> tol, const std::string& method,
                  const std::string& solver, const std::optional<std::vector<double>>& frequencies,
                  const std::string& start) const {
     if (start != "auto" && start != "guess") throw std::invalid_argument("start must be auto or guess, got '" + start + "'");
-    const cli::SolveSettings settings = Settings(name_, parameters_, order, p, tol, method, solver, frequencies);
+    const SolveSettings settings = Settings(order, p, tol, method, solver, frequencies);
     if (settings.method != "rhb" && settings.method != "hdhb" && settings.method != "aft")
       throw std::invalid_argument("method must be rhb, hdhb or aft, got '" + method + "'");
     py::gil_scoped_release release;
-    cli::PreparedSolve prepared = cli::PrepareSolve(settings);
-    auto model = std::make_shared<const cli::ProblemSource>(std::move(prepared.source));
-    // As `rmhb solve --start`: the guess, then a simulated or identified start.
+    PreparedSolve prepared = PrepareSolve(*model_, settings);
+    auto model = std::make_shared<const rmhb::Model>(std::move(prepared.model));
+    // As `rmhb solve --start` (SolveModel's start): the guess, then a simulated or identified start.
     Solution out{model, start == "guess" ? SolveHarmonicBalance(model->problem, prepared.guess, prepared.options)
                                          : SolveFromAnyStart(*model, prepared.guess, prepared.options).summary};
     return out;
   }
 
   AnalyzeSummary Analyze(std::optional<int> order, double t_end, double transient, int validate_periods) const {
-    cli::SolveSettings settings = Settings(name_, parameters_, order, {}, {}, "rhb", "auto", {});
+    const SolveSettings settings = Settings(order, {}, {}, "rhb", "auto", {});
     py::gil_scoped_release release;
-    const cli::PreparedSolve prepared = cli::PrepareSolve(settings);
+    const PreparedSolve prepared = PrepareSolve(*model_, settings);
     AnalyzeOptions options;
     options.solve = prepared.options;
     options.t_end = t_end;
     options.transient = transient;
     options.validate_periods = validate_periods;
-    return rmhb::Analyze(prepared.source, options);
+    return rmhb::Analyze(prepared.model, options);
   }
 
   Branch Continuation(const std::string& parameter, double start, double stop, std::optional<int> order,
                         bool natural, int steps) const {
     if (start == stop) throw std::invalid_argument("continuation: start == stop");
     if (steps < 1) throw std::invalid_argument("steps must be >= 1");
-    ContinuationSummary summary;
+    BranchSummary branch;
     {
       py::gil_scoped_release release;
-      cli::SolveSettings settings = Settings(name_, parameters_, order, {}, {}, "rhb", "auto", {});
-      const cli::PreparedSolve prepared = cli::PrepareSolve(settings, {{parameter, start}});
-      ContinuationProblem problem{parameter, start, stop, [settings, parameter](double value) {
-                                    return cli::LoadSolveProblem(settings, {{parameter, value}}).problem;
-                                  }};
-      ContinuationOptions options;
-      options.method = natural ? ContinuationMethod::kNatural : ContinuationMethod::kPseudoArclength;
+      const SolveSettings settings = Settings(order, {}, {}, "rhb", "auto", {});
+      const PreparedSolve prepared = PrepareSolve(WithParameters(*model_, {{parameter, start}}), settings);
+      ContinueOptions options;
+      options.parameter = parameter;
+      options.from = start;
+      options.to = stop;
       options.harmonic_balance = prepared.options;
-      options.initial_step = std::abs(stop - start) / steps;
-      options.max_step = std::max(options.initial_step, std::abs(stop - start) / 10);
-      summary = TraceBranch(problem, prepared.guess, options);
+      options.natural = natural;
+      options.steps = steps;
+      branch = ContinueModel(prepared.model, prepared.guess, options);
     }
+    const ContinuationSummary& summary = branch.continuation;
     std::vector<double> lambda, frequency, amplitude, folds;
     std::vector<std::string> stability;
     py::array_t<bool> stable(static_cast<py::ssize_t>(summary.points.size()));
@@ -231,7 +228,7 @@ class Model {
       const ContinuationPoint& p = summary.points[i];
       lambda.push_back(p.parameter);
       frequency.push_back(p.solution.frequencies()[0]);
-      amplitude.push_back(p.solution.Amplitude(0));
+      amplitude.push_back(branch.reports[i].peak);
       stability.push_back(ToString(p.stability));
       flags(static_cast<py::ssize_t>(i)) = p.stability == PointStability::kStable;
       if (p.fold) folds.push_back(p.parameter);
@@ -268,9 +265,7 @@ class Model {
   int default_order() const { return model_->default_order; }
 
  private:
-  std::string name_;
-  std::map<std::string, double> parameters_;
-  std::shared_ptr<const cli::ProblemSource> model_;
+  std::shared_ptr<const rmhb::Model> model_;
 };
 
 Identification Identify(const Array& t, const py::array_t<double, py::array::c_style | py::array::forcecast>& signal) {

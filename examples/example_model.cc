@@ -1,12 +1,12 @@
-#include "rmhb/cli/problem_source.h"
+#include "examples/example_model.h"
 
 #include <sys/stat.h>
 
-#include <algorithm>
 #include <memory>
 
+#include "examples/example_system.h"
 
-namespace rmhb::cli {
+namespace rmhb::examples {
 namespace {
 
 bool LooksLikeFile(const std::string& s) {
@@ -18,11 +18,13 @@ bool LooksLikeFile(const std::string& s) {
          (stat(s.c_str(), &st) == 0 && S_ISREG(st.st_mode));
 }
 
-ProblemSource FromExample(const std::string& name, const std::map<std::string, double>& overrides) {
-  auto setup = std::make_shared<examples::ExampleSetup>(examples::BuildExample(name, overrides));
-  ProblemSource p;
+}  // namespace
+
+Model ExampleModel(const std::string& name, const std::map<std::string, double>& overrides) {
+  auto setup = std::make_shared<ExampleSetup>(BuildExample(name, overrides));
+  Model p;
   p.name = name;
-  p.equation = examples::FindExample(name)->equation;
+  p.equation = FindExample(name)->equation;
   p.problem = setup->problem;
   p.default_order = setup->default_order;
   p.guess = [setup](int) { return setup->guess; };
@@ -45,13 +47,12 @@ ProblemSource FromExample(const std::string& name, const std::map<std::string, d
   for (const auto& e : setup->problem.system.equations()) pins += e.balance_constant ? 0 : 1;
   p.num_user_conditions = static_cast<int>(setup->problem.conditions.size()) - pins;
   p.overrides = overrides;
+  p.reload = [name](const model::ParameterValues& values) { return ExampleModel(name, values); };
   return p;
 }
 
-}  // namespace
-
-ProblemSource LoadProblem(const std::string& model, const std::map<std::string, double>& overrides) {
-  return LooksLikeFile(model) ? LoadModel(model, overrides) : FromExample(model, overrides);
+Model LoadModelOrExample(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
+  return LooksLikeFile(name_or_path) ? LoadModel(name_or_path, overrides) : ExampleModel(name_or_path, overrides);
 }
 
-}  // namespace rmhb::cli
+}  // namespace rmhb::examples

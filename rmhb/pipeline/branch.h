@@ -1,0 +1,97 @@
+#ifndef RMHB_PIPELINE_BRANCH_H_
+#define RMHB_PIPELINE_BRANCH_H_
+
+// A branch of steady states of a model as one of its parameters moves, with
+// what a user reads off each point:
+//   ContinueOptions options;  options.parameter = "w";  options.from = 0.5;  options.to = 3;
+//   options.harmonic_balance = prepared.options;
+//   BranchSummary b = ContinueModel(model, prepared.guess, options);
+// The branch is traced by rmhb::TraceBranch (rmhb/continuation.h:
+// pseudo-arclength past folds, or natural-parameter steps), the model
+// rebuilt at every parameter value (WithParameters). Every point gets its
+// peak max|x(t)| of the first variable, its stability (Hill), its errors
+// against the model's exact reference, its definition check (a recast's
+// auxiliaries against their definitions: physical or not), and on request
+// its validation error against the original equations (ValidateOriginal:
+// CVODE, or IDA for a DAE). `rmhb solve --continue` prints this summary;
+// its JSON is ToJson().
+// A branch that cannot be followed, or with non-physical points, is a
+// status; misuse (invalid options, a parameter value the model refuses at
+// either end of the range) throws std::invalid_argument.
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rmhb/continuation.h"
+#include "rmhb/definition_check.h"
+#include "rmhb/pipeline/model.h"
+
+namespace rmhb {
+
+struct ContinueOptions {
+  std::string parameter;  // any parameter of the model
+  double from = 0, to = 1;
+  HarmonicBalanceOptions harmonic_balance;  // of the first solve (PrepareSolve builds them)
+  int steps = 20;         // first step |to - from| / steps; the step then adapts
+  double max_step = 0;    // 0: |to - from| / 10, or the first step if larger
+  bool natural = false;   // natural-parameter steps (stop at a fold) instead of pseudo-arclength
+  bool stability = true;  // Hill's method per point (ContinuationOptions::stability)
+  bool validate = false;  // every point against the original equations
+  int validate_periods = 1;  // of the slowest base
+  std::string IsValid() const;  // empty when valid
+};
+
+struct BranchPointReport {
+  double peak = 0;                 // max|x(t)| of the first variable (PeakValue)
+  std::string stability;           // stable, unstable, neutral or unknown
+  double validation_error = NAN;   // when validated (NaN: the integration failed)
+  // Against the model's exact reference at this parameter value, if any.
+  double frequency_error = NAN, amplitude_error = NAN;
+  std::optional<DefinitionCheck> definitions;  // when the model has auxiliaries
+  // The larger of the two errors that exist.
+  double reference_error() const;
+  bool physical() const { return !definitions || definitions->physical; }
+};
+
+enum class BranchStatus {
+  kCompleted,    // traced to the end of the range (or it left through its start)
+  kStopped,      // the trace stopped (continuation.status and message say why)
+  kNonPhysical,  // traced, but some points are non-physical (non_physical lists them)
+};
+const char* ToString(BranchStatus status);  // "completed", "stopped", "non_physical"
+
+struct BranchSummary {
+  BranchStatus status = BranchStatus::kStopped;
+  std::string message;
+  ContinuationSummary continuation;        // the points themselves
+  std::vector<BranchPointReport> reports;  // one per point
+  std::vector<size_t> non_physical;        // indices of non-physical points
+  bool has_reference = false;  // the model has an exact frequency or amplitude
+  bool validated = false;
+  int bases = 1;
+
+  std::string BriefReport() const;  // the continuation's line
+  // The brief line, the message, why stability is unknown, and (with
+  // `table`) one row per point: parameter, frequencies, amplitude, residual,
+  // stability, [validation], [exact error], fold and NON-PHYSICAL marks.
+  std::string FullReport(bool table = true) const;
+  // `rmhb solve --continue --json` without the command line's fields
+  // (model, csv, plot).
+  nlohmann::json ToJson() const;
+};
+
+// `model` at any parameter value (it is rebuilt at options.from); `guess`
+// starts the first solve at options.from.
+BranchSummary ContinueModel(const Model& model, const HarmonicSolution& guess, const ContinueOptions& options);
+
+// max |x(t)| of the first variable: over one period, or for a quasi-periodic
+// solution over 200 periods of the slowest base (a lower bound of the sup).
+double PeakValue(const HarmonicSolution& solution, int variable = 0);
+
+}  // namespace rmhb
+
+#endif  // RMHB_PIPELINE_BRANCH_H_

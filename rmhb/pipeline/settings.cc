@@ -1,0 +1,101 @@
+#include "rmhb/pipeline/settings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace rmhb {
+
+std::string SolveSettings::IsValid() const {
+  if ((order_given || order != -1) && order < 1) return "--order must be >= 1 (got " + std::to_string(order) + ")";
+  if (!(residual_tol > 0) || !std::isfinite(residual_tol))
+    return "--residual-tol must be finite and > 0 (got " + std::to_string(residual_tol) + ")";
+  if ((samples_given || samples != -1) && samples < 1)
+    return "--samples must be >= 1 (got " + std::to_string(samples) + ")";
+  if (!(tol >= 0) || !std::isfinite(tol)) return "--tol must be a finite number >= 0 (got " + std::to_string(tol) + ")";
+  if (!(max_jacobian_gib > 0) || !std::isfinite(max_jacobian_gib)) return "--max-jacobian-gib must be finite and > 0";
+  if (sampling != "torus" && sampling != "gcd") return "--sampling must be torus or gcd (got '" + sampling + "')";
+  if (shape != "diamond" && shape != "box") return "--basis must be diamond or box (got '" + shape + "')";
+  if (max_iterations < 1) return "--max-iterations must be >= 1";
+  if (max_order < 1) return "--max-order must be >= 1";
+  return "";
+}
+
+PreparedSolve PrepareSolve(Model model, const SolveSettings& a) {
+  if (const std::string error = a.IsValid(); !error.empty()) throw std::invalid_argument(error);
+  if (!a.frequencies.empty()) SetFrequencies(a.frequencies, &model);
+  HarmonicBalanceProblem& problem = model.problem;
+  const int bases = static_cast<int>(problem.frequencies.size());
+
+  HarmonicBalanceOptions options;
+  options.order = a.order > 0 ? a.order : model.default_order;
+  options.rule = ParseSamplingRule(a.method);
+  if (a.samples > 0) options.samples.assign(bases, a.samples);
+  options.allow_aliasing = a.allow_aliasing;
+  options.tolerance = a.tol;
+  options.max_order = std::max(a.max_order, options.order);
+  options.solver.method = ParseSolverMethod(a.solver);
+  options.solver.max_iterations = a.max_iterations;
+  options.solver.scaling = ParseScaling(a.scaling);
+  options.solver.residual_tolerance = a.residual_tol;
+  options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;
+  options.quasi_periodic_sampling =
+      a.sampling == "gcd" ? QuasiPeriodicSampling::kGcd : QuasiPeriodicSampling::kTorus;
+  // An explicit shape overrides the model's own index set.
+  if (model.basis_for_order && !a.shape_given) options.basis_for_order = model.basis_for_order;
+  options.max_jacobian_bytes = a.max_jacobian_gib * double(1L << 30);
+  CheckJacobianSize(problem, options);  // before a guess at that order is built
+  HarmonicSolution guess = GuessAtOrder(model, options.order);
+  return PreparedSolve{std::move(model), std::move(options), std::move(guess)};
+}
+
+std::vector<double> ParseNumberList(const std::string& text, const char* what) {
+  std::vector<double> out;
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    const size_t next = text.find_first_of(",:", pos);
+    const std::string item = text.substr(pos, next == std::string::npos ? std::string::npos : next - pos);
+    size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size() || !std::isfinite(v))
+      throw std::invalid_argument(std::string(what) + ": '" + item + "' is not a finite number");
+    out.push_back(v);
+    if (next == std::string::npos) break;
+    pos = next + 1;
+  }
+  return out;
+}
+
+std::pair<std::string, double> ParseAssignment(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw std::invalid_argument("--set expects name=value, got '" + text + "'");
+  const std::string name = text.substr(0, eq), value = text.substr(eq + 1);
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != value.size())
+    throw std::invalid_argument("--set " + name + ": '" + value + "' is not a number");
+  if (!std::isfinite(v)) throw std::invalid_argument("--set " + name + ": value must be finite");
+  return {name, v};
+}
+
+std::map<std::string, double> ParseOverrides(const std::vector<std::string>& assignments) {
+  std::map<std::string, double> values;
+  for (const auto& s : assignments) {
+    auto [name, v] = ParseAssignment(s);
+    values[name] = v;
+  }
+  return values;
+}
+
+}  // namespace rmhb
