@@ -14,7 +14,8 @@
 #include "integrators/trajectory_validation.h"
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
-#include "rmhb/cli/plot.h"
+#include "rmhb/plot/figures.h"
+#include "rmhb/plot/plot.h"
 #include "rmhb/pipeline/analyze.h"
 
 namespace rmhb::cli {
@@ -73,7 +74,7 @@ int RunAnalyze(const AnalyzeArgs& a) {
   const auto start = Clock::now();
   const PreparedSolve prepared = Prepare(a.settings);
   const Model& source = prepared.model;
-  if (!a.plot.empty()) CheckPlotRequest(a.plot);
+  if (!a.plot.empty()) plot::CheckPlotRequest(a.plot);
   AnalyzeOptions options;
   options.solve = prepared.options;
   options.identify = a.settings.solve.frequencies.empty();
@@ -96,7 +97,7 @@ int RunAnalyze(const AnalyzeArgs& a) {
   out["model"] = a.settings.model;
   out["seconds"] = total;
   if (s.solved() && !a.plot.empty()) {
-    PlotSolution(source, *s.solve->solution, a.plot);
+    plot::PlotSolution(source, *s.solve->solution, a.plot);
     out["plot"] = a.plot;
   }
   if (a.json) {

@@ -16,7 +16,8 @@
 #include "integrators/trajectory_validation.h"
 #include "integrators/cvode_integrator.h"
 #include "rmhb/cli/exit_codes.h"
-#include "rmhb/cli/plot.h"
+#include "rmhb/plot/figures.h"
+#include "rmhb/plot/plot.h"
 #include "rmhb/harmonic_balance.h"
 #include "rmhb/pipeline/report.h"
 #include "rmhb/pipeline/solve.h"
@@ -60,55 +61,6 @@ void AddSolveOptions(CLI::App* app, SolveArgs* a) {
       "the recast or aliasing -- or an unknown frequency collapsed to w <= 0; with --continue:\n"
       "some point of the branch is non-physical), 6 --validate measured an error above\n"
       "--validate-tol (relative to max|state|; status exceeds).");
-}
-
-void PlotSolution(const Model& source, const HarmonicSolution& sol, const std::string& file) {
-  const double period = 2 * M_PI / *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
-  std::vector<double> times(801);
-  for (size_t i = 0; i < times.size(); ++i) times[i] = 2 * period * i / (times.size() - 1);
-  const int n = source.original ? static_cast<int>(source.state_names.size()) : 0;
-  std::vector<std::vector<double>> hb(n, std::vector<double>(times.size()));
-  for (size_t i = 0; i < times.size() && n; ++i) {
-    const Eigen::VectorXd y = source.state(sol, times[i]);
-    for (int j = 0; j < n; ++j) hb[j][i] = y(j);
-  }
-  PlotPanel response{"time response: harmonic balance (lines) against CVODE (points)", "t", "state", false, false, {}};
-  PlotPanel error{"|harmonic balance - CVODE|", "t", "error", false, true, {}};
-  PlotPanel phase{"phase portrait", n ? source.state_names[0] : "", n > 1 ? source.state_names[1] : "", false, false, {}};
-  if (n) {
-    integrators::IntegratorOptions io;
-    io.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
-    io.relative_tolerance = 1e-13;
-    io.absolute_tolerance = 1e-15;
-    const integrators::IntegrationResult r =
-        integrators::IntegrateOde(source.original(sol.frequencies()), source.state(sol, 0.0), 0.0, times, io);
-    for (int j = 0; j < n; ++j) {
-      PlotSeries line{source.state_names[j] + " (HB)", times, hb[j], PlotSeries::Style::kLines, {}};
-      PlotSeries ref{source.state_names[j] + " (CVODE)", {}, {}, PlotSeries::Style::kPoints, {}};
-      PlotSeries diff{source.state_names[j], {}, {}, PlotSeries::Style::kLines, {}};
-      for (int i = 0; i < r.trajectory.size(); i += 8) ref.x.push_back(r.trajectory.times[i]), ref.y.push_back(r.trajectory.states(i, j));
-      for (int i = 0; i < r.trajectory.size(); ++i) {
-        diff.x.push_back(r.trajectory.times[i]);
-        diff.y.push_back(std::abs(hb[j][i] - r.trajectory.states(i, j)));
-      }
-      response.series.push_back(line);
-      response.series.push_back(ref);
-      error.series.push_back(diff);
-    }
-    if (n > 1) phase.series.push_back({"HB", hb[0], hb[1], PlotSeries::Style::kLines, {}});
-  } else {  // no original system: the solution alone
-    for (int j = 0; j < sol.num_variables(); ++j) {
-      if (sol.variables()[j].role == VariableRole::kAuxiliary) continue;
-      PlotSeries line{sol.variables()[j].name, times, {}, PlotSeries::Style::kLines, {}};
-      for (double t : times) line.y.push_back(sol.Value(j, t));
-      response.series.push_back(line);
-    }
-    response.title = "time response (no original ODE to compare with: " + source.original_error + ")";
-  }
-  Plot plot{source.name + ": " + source.equation, {response}};
-  if (n) plot.panels.push_back(error);
-  if (n > 1) plot.panels.push_back(phase);
-  WritePlot(plot, file);
 }
 
 int RunList(bool as_json) {
@@ -202,7 +154,7 @@ int SolveExitCode(const SolveSummary& s, bool quiet) {
 }  // namespace
 
 int RunSolve(const SolveArgs& a) {
-  if (!a.plot.empty()) CheckPlotRequest(a.plot);
+  if (!a.plot.empty()) plot::CheckPlotRequest(a.plot);
   if (!a.csv.empty() && a.eval.empty())
     throw std::invalid_argument("--csv needs --eval t0:dt:t1 (or --continue, whose branch it writes)");
   const PreparedSolve prepared = Prepare(a.settings);
@@ -218,7 +170,7 @@ int RunSolve(const SolveArgs& a) {
   out["model"] = a.settings.model;
   if (!a.eval.empty() && summary.converged()) out["eval"] = WriteEval(summary.solution(), a);
   if (!a.plot.empty() && summary.converged()) {
-    PlotSolution(prepared.model, summary.solution(), a.plot);
+    plot::PlotSolution(prepared.model, summary.solution(), a.plot);
     out["plot"] = a.plot;
   }
   if (a.json)

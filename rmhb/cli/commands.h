@@ -36,10 +36,6 @@ struct RecastArgs {
 
 void AddSolveOptions(CLI::App* app, SolveArgs* args);
 int RunSolve(const SolveArgs& args);
-// `--plot`: two periods of the slowest base, the solution against CVODE
-// started on it (the original equations), their difference and the phase
-// portrait, into FILE.png or FILE.svg.
-void PlotSolution(const Model& source, const HarmonicSolution& solution, const std::string& file);
 int RunList(bool json);
 void AddRecastOptions(CLI::App* app, RecastArgs* args);
 int RunRecast(const RecastArgs& args);

@@ -10,9 +10,10 @@
 #include <iostream>
 #include <optional>
 
-#include "rmhb/cli/branch_plot.h"
+#include "rmhb/plot/branch_plot.h"
 #include "rmhb/cli/exit_codes.h"
-#include "rmhb/cli/plot.h"
+#include "rmhb/plot/figures.h"
+#include "rmhb/plot/plot.h"
 #include "rmhb/cli/solve_setup.h"
 #include "rmhb/pipeline/branch.h"
 
@@ -91,7 +92,7 @@ void WriteCsv(const BranchSummary& b, const std::string& file) {
 int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   const Range range = ParseRange(a.range);
   if (!solve.eval.empty()) throw std::invalid_argument("--eval does not apply to --continue");
-  if (!solve.plot.empty()) CheckPlotRequest(solve.plot);
+  if (!solve.plot.empty()) plot::CheckPlotRequest(solve.plot);
   if (solve.start != "auto") throw std::invalid_argument("--start applies to one solve, not to --continue");
   if (!a.plot_var.empty() && solve.plot.empty()) throw std::invalid_argument("--plot-var needs --plot");
   if (solve.stability && a.no_stability)
@@ -120,10 +121,10 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   std::string plot_data;
   if (!solve.plot.empty() && !summary.points.empty()) {
     const std::string var = a.plot_var.empty() ? summary.points[0].solution.variables()[0].name : a.plot_var;
-    const std::vector<BranchRow> rows = BranchRows(summary, var);
+    const std::vector<plot::BranchRow> rows = plot::BranchRows(summary, var);
     plot_data = solve.plot + ".dat";
-    WriteBranchData(rows, range.name, var, plot_data);
-    PlotBranch(rows, prepared.model.name + ": " + prepared.model.equation, range.name, var, solve.plot);
+    plot::WriteBranchData(rows, range.name, var, plot_data);
+    plot::PlotBranch(rows, prepared.model.name + ": " + prepared.model.equation, range.name, var, solve.plot);
   }
   if (solve.json) {
     json out = branch.ToJson();

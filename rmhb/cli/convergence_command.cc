@@ -15,7 +15,8 @@
 #include <sstream>
 
 #include "rmhb/cli/exit_codes.h"
-#include "rmhb/cli/plot.h"
+#include "rmhb/plot/figures.h"
+#include "rmhb/plot/plot.h"
 #include "examples/example_model.h"
 #include "rmhb/model/recast.h"
 #include "rmhb/pipeline/convergence.h"
@@ -68,27 +69,6 @@ std::string TwinModelFile(const std::string& example) {
   for (const auto& c : candidates)
     if (access(c.c_str(), R_OK) == 0) return c;
   return "";
-}
-
-// Error against run time (log-log) and against order, one line per column.
-void PlotTable(const Model& source, const std::string& measure, const std::vector<int>& orders,
-               const std::vector<ConvergenceColumn>& columns, const std::string& file) {
-  Plot plot{source.name + ": " + source.equation, {}};
-  PlotPanel speed{"error against run time", "run time [s]", "error: " + measure, true, true, {}};
-  PlotPanel order{"error against order", source.problem.frequencies.size() == 1 ? "order N" : "order p", "error",
-                  false, true, {}};
-  for (const auto& col : columns) {
-    PlotSeries s{col.name, {}, {}, PlotSeries::Style::kLinesPoints, {}}, o = s;
-    for (size_t i = 0; i < orders.size(); ++i) {
-      if (col.cells[i].status != "converged") continue;
-      s.x.push_back(col.cells[i].seconds), s.y.push_back(col.cells[i].error);
-      o.x.push_back(orders[i]), o.y.push_back(col.cells[i].error);
-    }
-    speed.series.push_back(s);
-    order.series.push_back(o);
-  }
-  plot.panels = {speed, order};
-  WritePlot(plot, file);
 }
 
 }  // namespace
@@ -165,7 +145,7 @@ ConvergenceOptions StudyOptions(const ConvergenceArgs& a, const std::vector<int>
 
 int RunConvergence(const ConvergenceArgs& a) {
   const std::vector<int> orders = ParseOrders(a.orders);
-  if (!a.plot.empty()) CheckPlotRequest(a.plot);
+  if (!a.plot.empty()) plot::CheckPlotRequest(a.plot);
   ModelSettings settings = a.settings;
   settings.solve.order = orders[0];
   PreparedSolve prepared = Prepare(settings);
@@ -177,7 +157,7 @@ int RunConvergence(const ConvergenceArgs& a) {
   }
   const ConvergenceOptions options = StudyOptions(a, orders, prepared.options);
   const ConvergenceSummary study = ConvergenceStudy(source, options);
-  if (!a.plot.empty()) PlotTable(source, study.error_measure, orders, study.columns, a.plot);
+  if (!a.plot.empty()) plot::PlotConvergence(study, a.plot);
   if (a.json) {
     json out = study.ToJson();
     out["model"] = a.settings.model;

@@ -12,7 +12,8 @@
 #include "frequency_id/signal_io.h"
 #include "frequency_id/spectrum.h"
 #include "rmhb/cli/exit_codes.h"
-#include "rmhb/cli/plot.h"
+#include "rmhb/plot/figures.h"
+#include "rmhb/plot/plot.h"
 #include "examples/example_model.h"
 #include "rmhb/pipeline/identify.h"
 #include "rmhb/pipeline/settings.h"
@@ -21,45 +22,6 @@ namespace rmhb::cli {
 namespace {
 
 using nlohmann::json;
-
-// The windowed amplitude spectrum of the first channel, and every identified
-// line at its refined frequency labelled with its combination (m, n).
-void PlotSpectrum(const frequency_id::Signal& signal, const frequency_id::IdentificationSummary& summary,
-                  const std::string& file) {
-  frequency_id::SampleGrid grid;
-  grid.t0 = signal.t0;
-  grid.dt = signal.dt;
-  grid.size = static_cast<int>(signal.samples.rows());
-  frequency_id::SpectrumAnalyzer analyzer(grid, frequency_id::Window(summary.window_order > 0 ? summary.window_order : 2));
-  const Eigen::VectorXd& amplitude = analyzer.Compute(signal.samples.col(0));
-  double top = 0;
-  for (const auto& c : summary.components) top = std::max(top, c.frequency);
-  PlotSeries spectrum{"windowed FFT, " + (summary.channel_names.empty() ? std::string("channel 1") : summary.channel_names[0]),
-                      {}, {}, PlotSeries::Style::kLines, {}};
-  for (int k = 1; k < analyzer.num_bins(); ++k) {
-    if (analyzer.BinFrequency(k) > 1.2 * top + 1) break;
-    spectrum.x.push_back(analyzer.BinFrequency(k));
-    spectrum.y.push_back(amplitude(k));
-  }
-  PlotSeries lines{"identified lines (m, n)", {}, {}, PlotSeries::Style::kImpulses, {}};
-  for (const auto& c : summary.components) {
-    lines.x.push_back(c.frequency);
-    lines.y.push_back(c.amplitude.size() ? c.amplitude(0) : 0.0);
-    std::string label = "(";
-    for (size_t i = 0; i < c.label.size(); ++i) label += (i ? "," : "") + std::to_string(c.label[i]);
-    lines.labels.push_back(c.label.empty() ? "?" : label + ")");
-  }
-  std::string bases;
-  for (const auto& b : summary.bases) {
-    char w[32];
-    std::snprintf(w, sizeof w, "%.10g", b.frequency);
-    bases += (bases.empty() ? "" : ", ") + std::string(w);
-  }
-  Plot plot{"frequency identification: bases " + bases, {}};
-  plot.panels.push_back({"amplitude spectrum with labelled combination tones", "angular frequency [rad/time]",
-                         "amplitude", false, true, {spectrum, lines}});
-  WritePlot(plot, file);
-}
 
 }  // namespace
 
@@ -98,7 +60,7 @@ void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
 int RunIdentify(const IdentifyArgs& a) {
   if (a.model.empty() == a.signal.empty())
     throw std::invalid_argument("identify needs either a model or --signal FILE.csv");
-  if (!a.plot.empty()) CheckPlotRequest(a.plot);
+  if (!a.plot.empty()) plot::CheckPlotRequest(a.plot);
   IdentifyOptions options;
   options.t_end = a.t_end;
   options.transient = a.transient;
@@ -115,7 +77,7 @@ int RunIdentify(const IdentifyArgs& a) {
   }
   json out = summary.ToJson();
   if (!a.plot.empty()) {
-    PlotSpectrum(summary.signal, summary.identification, a.plot);
+    plot::PlotSpectrum(summary.signal, summary.identification, a.plot);
     out["plot"] = a.plot;
   }
   if (a.json)

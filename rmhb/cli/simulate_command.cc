@@ -10,7 +10,8 @@
 #include <iostream>
 
 #include "rmhb/cli/exit_codes.h"
-#include "rmhb/cli/plot.h"
+#include "rmhb/plot/figures.h"
+#include "rmhb/plot/plot.h"
 #include "examples/example_model.h"
 #include "rmhb/pipeline/settings.h"
 #include "rmhb/pipeline/simulate.h"
@@ -63,7 +64,7 @@ void AddSimulateOptions(CLI::App* app, SimulateArgs* a) {
 
 int RunSimulate(const SimulateArgs& a) {
   const Model model = examples::LoadModelOrExample(a.model, ParseOverrides(a.set));
-  if (!a.plot.empty()) CheckPlotRequest(a.plot);
+  if (!a.plot.empty()) plot::CheckPlotRequest(a.plot);
   if (a.json && a.csv.empty()) throw std::invalid_argument("--json needs --csv FILE for the trajectory");
   SimulateOptions options;
   if (a.t_end_given) options.t_end = a.t_end;
@@ -80,18 +81,7 @@ int RunSimulate(const SimulateArgs& a) {
     if (!out) throw std::invalid_argument("--csv: cannot write '" + a.csv + "'");
     WriteCsv(out, model.state_names, r.trajectory);
   }
-  if (!a.plot.empty() && r.trajectory.size() > 0) {
-    char tolerance[32];
-    std::snprintf(tolerance, sizeof tolerance, "%g", a.rtol);
-    Plot plot{model.name + ": " + model.equation + " (" + r.solver + ", rtol " + tolerance + ")", {}};
-    PlotPanel panel{"time response from the initial state", "t", "state", false, false, {}};
-    for (int j = 0; j < r.trajectory.dimension(); ++j) {
-      const Eigen::VectorXd c = r.trajectory.Component(j);
-      panel.series.push_back({model.state_names[j], r.trajectory.times, std::vector<double>(c.data(), c.data() + c.size()), PlotSeries::Style::kLines, {}});
-    }
-    plot.panels.push_back(panel);
-    WritePlot(plot, a.plot);
-  }
+  if (!a.plot.empty() && r.trajectory.size() > 0) plot::PlotTrajectory(model, s, a.plot);
   json out = s.ToJson();
   if (!a.csv.empty()) out["csv"] = a.csv;
   if (!a.plot.empty()) out["plot"] = a.plot;

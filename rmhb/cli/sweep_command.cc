@@ -14,7 +14,8 @@
 
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
-#include "rmhb/cli/plot.h"
+#include "rmhb/plot/figures.h"
+#include "rmhb/plot/plot.h"
 #include "rmhb/sweep/mpi.h"
 #include "rmhb/sweep/run.h"
 #include "rmhb/sweep/sweep_file.h"
@@ -127,7 +128,7 @@ void PlotMap(const SweepArgs& a, const ParameterGrid& grid, const std::vector<js
                                                                       : std::max(peak, s.at("amplitude").get<double>());
     return peak;
   };
-  HeatMap map;
+  plot::HeatMap map;
   map.title = a.settings.model + ": " + (a.plot_value == "count" ? "number of solutions" : "largest amplitude");
   map.x_label = axes[0].name;
   map.z_label = a.plot_value;
@@ -139,7 +140,7 @@ void PlotMap(const SweepArgs& a, const ParameterGrid& grid, const std::vector<js
     map.y = {0};
   }
   for (const json& p : points) map.z.push_back(value(p));
-  WriteHeatMap(map, a.plot);
+  plot::WriteHeatMap(map, a.plot);
 }
 
 json Report(const SweepArgs& a, const ParameterGrid& grid, const Totals& t, const JournalContents& journal,
@@ -212,7 +213,7 @@ int RunSweep(const SweepArgs& a, int rank, int ranks) {
   for (const std::string& text : a.grid) axes.push_back(ParseGridAxis(text));
   const ParameterGrid grid(std::move(axes));
   if (!a.plot.empty()) {
-    CheckPlotRequest(a.plot);
+    plot::CheckPlotRequest(a.plot);
     if (grid.axes().size() > 2) throw std::invalid_argument("--plot draws grids of one or two axes");
   }
   const std::vector<double> range = ParseNumberList(a.range, "--range");

@@ -1,16 +1,18 @@
-#ifndef RMHB_CLI_PLOT_H_
-#define RMHB_CLI_PLOT_H_
+#ifndef RMHB_PLOT_PLOT_H_
+#define RMHB_PLOT_PLOT_H_
 
-// `--plot FILE.png|svg` of every command: the data and a gnuplot script go to
-// a temporary directory, gnuplot draws, the directory is removed. gnuplot is
-// a run-time dependency only (Debian: gnuplot-nox); without it a plot request
-// is bad input (exit 2) with a message saying what to install, and nothing
-// else the command does depends on it.
+// Figures drawn by gnuplot, PNG or SVG by the file's extension: the data and
+// a gnuplot script go to a temporary directory, gnuplot draws, the directory
+// is removed. The studies' own pictures (figures.h, branch_plot.h: what
+// `--plot FILE` of every command draws) are built on these. gnuplot is a
+// run-time dependency only (Debian: gnuplot-nox); without it a plot request
+// throws std::invalid_argument saying what to install (the CLI: exit 2), and
+// nothing else depends on it.
 
 #include <string>
 #include <vector>
 
-namespace rmhb::cli {
+namespace rmhb::plot {
 
 struct PlotSeries {
   std::string title;  // legend entry
@@ -56,6 +58,6 @@ struct HeatMap {
 };
 void WriteHeatMap(const HeatMap& map, const std::string& file);
 
-}  // namespace rmhb::cli
+}  // namespace rmhb::plot
 
-#endif  // RMHB_CLI_PLOT_H_
+#endif  // RMHB_PLOT_PLOT_H_

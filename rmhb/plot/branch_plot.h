@@ -1,5 +1,5 @@
-#ifndef RMHB_CLI_BRANCH_PLOT_H_
-#define RMHB_CLI_BRANCH_PLOT_H_
+#ifndef RMHB_PLOT_BRANCH_PLOT_H_
+#define RMHB_PLOT_BRANCH_PLOT_H_
 
 // The frequency-response picture of `solve --continue ... --plot FILE`: a
 // value of each point (the amplitude max|x(t)| of a variable, or the first
@@ -13,7 +13,7 @@
 
 #include "rmhb/continuation.h"
 
-namespace rmhb::cli {
+namespace rmhb::plot {
 
 struct BranchRow {
   double parameter = 0, value = 0;
@@ -32,6 +32,6 @@ void WriteBranchData(const std::vector<BranchRow>& rows, const std::string& para
 void PlotBranch(const std::vector<BranchRow>& rows, const std::string& title, const std::string& parameter,
                 const std::string& plot_var, const std::string& file);
 
-}  // namespace rmhb::cli
+}  // namespace rmhb::plot
 
-#endif  // RMHB_CLI_BRANCH_PLOT_H_
+#endif  // RMHB_PLOT_BRANCH_PLOT_H_

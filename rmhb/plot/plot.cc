@@ -1,4 +1,4 @@
-#include "rmhb/cli/plot.h"
+#include "rmhb/plot/plot.h"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -15,7 +15,7 @@
 
 extern char** environ;
 
-namespace rmhb::cli {
+namespace rmhb::plot {
 namespace {
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
@@ -207,4 +207,4 @@ void WriteHeatMap(const HeatMap& map, const std::string& file) {
   RunGnuplot(dir, file);
 }
 
-}  // namespace rmhb::cli
+}  // namespace rmhb::plot

@@ -1,14 +1,14 @@
-#include "rmhb/cli/branch_plot.h"
+#include "rmhb/plot/branch_plot.h"
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
 
-#include "rmhb/cli/plot.h"
+#include "rmhb/plot/plot.h"
 #include "rmhb/pipeline/branch.h"
 
-namespace rmhb::cli {
+namespace rmhb::plot {
 namespace {
 
 struct StabilityStyle {
@@ -89,4 +89,4 @@ void PlotBranch(const std::vector<BranchRow>& rows, const std::string& title, co
   WritePlot({title, {panel}}, file);
 }
 
-}  // namespace rmhb::cli
+}  // namespace rmhb::plot
