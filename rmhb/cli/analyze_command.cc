@@ -1,4 +1,4 @@
-#include "rmhb/cli/analyze_command.h"
+#include "rmhb/cli/commands.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -12,7 +12,6 @@
 #include "rmhb/seeding/identified_guess.h"
 #include "frequency_id/frequency_identification.h"
 #include "integrators/trajectory_validation.h"
-#include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/plot/figures.h"
 #include "rmhb/plot/plot.h"

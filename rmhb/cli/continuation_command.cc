@@ -1,4 +1,4 @@
-#include "rmhb/cli/continuation_command.h"
+#include "rmhb/cli/commands.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -14,7 +14,6 @@
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/plot/figures.h"
 #include "rmhb/plot/plot.h"
-#include "rmhb/cli/solve_setup.h"
 #include "rmhb/pipeline/branch.h"
 
 namespace rmhb::cli {

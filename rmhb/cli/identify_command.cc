@@ -1,4 +1,4 @@
-#include "rmhb/cli/identify_command.h"
+#include "rmhb/cli/commands.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

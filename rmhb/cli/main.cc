@@ -10,15 +10,8 @@
 #include <stdexcept>
 
 #include "rmhb/version.h"
-#include "rmhb/cli/analyze_command.h"
 #include "rmhb/cli/commands.h"
-#include "rmhb/cli/continuation_command.h"
 #include "rmhb/cli/exit_codes.h"
-#include "rmhb/cli/identify_command.h"
-#include "rmhb/cli/montecarlo_command.h"
-#include "rmhb/cli/simulate_command.h"
-#include "rmhb/cli/sweep_command.h"
-#include "rmhb/cli/convergence_command.h"
 #include "rmhb/model/model_error.h"
 #include "rmhb/sweep/mpi.h"
 

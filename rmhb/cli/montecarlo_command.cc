@@ -1,4 +1,4 @@
-#include "rmhb/cli/montecarlo_command.h"
+#include "rmhb/cli/commands.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -11,7 +11,6 @@
 #include <sstream>
 
 #include "rmhb/cli/exit_codes.h"
-#include "rmhb/cli/solve_setup.h"
 #include "rmhb/pipeline/census.h"
 #include "rmhb/sweep/monte_carlo_mpi.h"
 

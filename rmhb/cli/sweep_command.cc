@@ -1,9 +1,6 @@
-#include "rmhb/cli/sweep_command.h"
+#include "rmhb/cli/commands.h"
 
 #include <CLI/CLI.hpp>
-#include <fcntl.h>
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -12,13 +9,10 @@
 #include <iostream>
 #include <sstream>
 
-#include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/plot/figures.h"
 #include "rmhb/plot/plot.h"
-#include "rmhb/sweep/mpi.h"
-#include "rmhb/sweep/run.h"
-#include "rmhb/sweep/sweep_file.h"
+#include "rmhb/sweep/grid_sweep.h"
 #include "rmhb/version.h"
 
 namespace rmhb::cli {
@@ -27,26 +21,6 @@ namespace {
 using nlohmann::json;
 using namespace rmhb::sweep;
 namespace fs = std::filesystem;
-
-std::map<std::string, double> AtValues(const ParameterGrid& grid, const std::vector<double>& values) {
-  std::map<std::string, double> at;
-  for (std::size_t i = 0; i < values.size(); ++i) at[grid.axes()[i].name] = values[i];
-  return at;
-}
-
-SweepModel MakeSweepModel(const ParameterGrid& grid, const PreparedSolve& prepared) {
-  SweepModel model;
-  model.build = [&prepared, &grid](const std::vector<double>& values) {
-    return WithParameters(prepared.model, AtValues(grid, values)).problem;
-  };
-  if (prepared.model.guess) {
-    const HarmonicSolution guess = prepared.guess;
-    model.guess = [guess](const HarmonicBalanceProblem& problem, int) {
-      return guess.WithFrequencies(problem.frequencies);
-    };
-  }
-  return model;
-}
 
 std::string ReadFile(const std::string& path) {
   std::ifstream in(path);
@@ -60,63 +34,6 @@ json ResultOptions(const SweepArgs& a, const SweepOptions& o) {
           {"max_iterations", a.settings.solve.max_iterations}, {"residual_tol", a.settings.solve.residual_tol},
           {"frequencies", a.settings.solve.frequencies}, {"starts", o.starts}, {"range", a.range},
           {"seed", o.seed},               {"stability", o.stability},   {"cluster_tolerance", o.cluster_tolerance}};
-}
-
-std::string Fingerprint(const SweepFileInfo& info) {
-  const std::string all = info.software + "\n" + info.model + "\n" + info.model_text + "\n" + info.parameters +
-                          "\n" + info.options + "\n";
-  std::ostringstream hex;
-  hex << std::hex << std::hash<std::string>{}(all) << '-' << all.size();
-  return hex.str();
-}
-
-// One line per solved point, appended with one write(2) so that the lines
-// of concurrent ranks never interleave.
-void LogPoint(int fd, int rank, const PointResult& p) {
-  if (fd < 0) return;
-  std::ostringstream line;
-  line << "point " << p.index << " rank " << rank << " " << ToString(p.status) << " solutions "
-       << p.solutions.size() << " solves " << p.solves << " seconds " << p.seconds << "\n";
-  const std::string text = line.str();
-  if (::write(fd, text.data(), text.size()) < 0) std::perror("rmhb sweep: --log");
-}
-
-double PeakMemoryMib() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024.0;  // kilobytes on Linux
-}
-
-struct Totals {
-  RunStats run;
-  long solved = 0, resumed = 0;
-  double peak_mib = 0;
-};
-
-// Every rank: solve its share of the lines, journaled.
-Totals SolveLines(const SweepArgs& a, const SweepModel& model, const ParameterGrid& grid,
-                  const SweepOptions& options, const std::string& journal_dir, const std::string& fingerprint,
-                  int rank, int ranks) {
-  const JournalContents done = ReadJournals(journal_dir, fingerprint);
-  const std::vector<long> lines = LinesToDo(grid, done.points);
-  Totals totals;
-  if (ranks > 1 && rank == 0) {
-    ServeLines(lines, ranks);
-  } else {
-    JournalWriter journal(journal_dir, rank, fingerprint);
-    const int log = a.log.empty() ? -1 : ::open(a.log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    if (!a.log.empty() && log < 0) throw std::invalid_argument("--log: cannot open '" + a.log + "'");
-    std::size_t next = 0;
-    const LineSource source =
-        ranks > 1 ? RequestLines() : LineSource([&] { return next < lines.size() ? lines[next++] : -1L; });
-    totals.run = RunLines(model, grid, options, source, done.points, &journal,
-                          [&](const PointResult& p) { LogPoint(log, rank, p); });
-    if (log >= 0) ::close(log);
-  }
-  totals.solved = SumToRoot(totals.run.solved);
-  totals.resumed = static_cast<long>(done.points.size());
-  totals.peak_mib = MaxToRoot(PeakMemoryMib());
-  return totals;
 }
 
 void PlotMap(const SweepArgs& a, const ParameterGrid& grid, const std::vector<json>& points) {
@@ -141,41 +58,6 @@ void PlotMap(const SweepArgs& a, const ParameterGrid& grid, const std::vector<js
   }
   for (const json& p : points) map.z.push_back(value(p));
   plot::WriteHeatMap(map, a.plot);
-}
-
-json Report(const SweepArgs& a, const ParameterGrid& grid, const Totals& t, const JournalContents& journal,
-            const std::vector<json>& points, int ranks, double seconds) {
-  long solved = 0, none = 0, failed = 0, solutions = 0;
-  for (const json& p : points) {
-    const std::string status = p.at("status");
-    (status == "solved" ? solved : status == "no_solution" ? none : failed)++;
-    solutions += static_cast<long>(p.at("solutions").size());
-  }
-  json axes = json::array();
-  for (const GridAxis& x : grid.axes())
-    axes.push_back({{"name", x.name}, {"from", x.from}, {"to", x.to}, {"count", x.count}});
-  const int computing = ranks > 1 ? ranks - 1 : 1;
-  const double rate = seconds > 0 ? t.solved / seconds : 0;
-  return {{"command", "sweep"}, {"model", a.settings.model}, {"grid", axes}, {"out", a.out},
-          {"points", grid.size()}, {"lines", grid.num_lines()}, {"computed", t.solved},
-          {"resumed", t.resumed}, {"duplicates", journal.duplicates}, {"torn_lines", journal.torn_lines},
-          {"solved", solved}, {"no_solution", none}, {"failed", failed}, {"solutions", solutions},
-          {"ranks", ranks}, {"computing_ranks", computing}, {"seconds", seconds},
-          {"points_per_second", rate}, {"points_per_second_per_rank", rate / computing},
-          {"peak_memory_mib_per_rank", t.peak_mib}};
-}
-
-void PrintReport(const json& r) {
-  std::printf("sweep of %s: %ld points (%ld lines) -> %s\n", r["model"].get<std::string>().c_str(),
-              r["points"].get<long>(), r["lines"].get<long>(), r["out"].get<std::string>().c_str());
-  std::printf("  %ld solved (%ld solutions), %ld with no solution, %ld failed\n", r["solved"].get<long>(),
-              r["solutions"].get<long>(), r["no_solution"].get<long>(), r["failed"].get<long>());
-  std::printf("  computed now %ld, from the journal %ld, computed twice %ld\n", r["computed"].get<long>(),
-              r["resumed"].get<long>(), r["duplicates"].get<long>());
-  std::printf("  %d rank(s), %d computing: %.2f s, %.1f points/s (%.1f per computing rank), peak %.0f MiB per rank\n",
-              r["ranks"].get<int>(), r["computing_ranks"].get<int>(), r["seconds"].get<double>(),
-              r["points_per_second"].get<double>(), r["points_per_second_per_rank"].get<double>(),
-              r["peak_memory_mib_per_rank"].get<double>());
 }
 
 }  // namespace
@@ -229,39 +111,25 @@ int RunSweep(const SweepArgs& a, int rank, int ranks) {
   options.stability = !a.no_stability;
   if (const std::string error = options.IsValid(); !error.empty()) throw std::invalid_argument(error);
 
-  SweepFileInfo info;
-  info.software = "rmhb " RMHB_VERSION_STRING;
-  info.model = a.settings.model;
-  if (prepared.model.from_file) info.model_text = ReadFile(a.settings.model);
-  for (const std::string& s : a.settings.set) info.parameters += (info.parameters.empty() ? "" : " ") + s;
-  info.options = ResultOptions(a, options).dump();
-  for (const GridAxis& x : grid.axes()) info.options += " " + x.name;
-  info.fingerprint = Fingerprint(info) + "-" + std::to_string(grid.size());
-  for (const Variable& v : prepared.model.problem.system.variables()) info.variables.push_back(v.name);
-
-  const std::string journal_dir = a.out + ".journal";
-  if (fs::exists(journal_dir) && !a.resume)
-    throw std::invalid_argument(journal_dir + " exists (an interrupted sweep): --resume finishes it, or remove it");
-  Barrier();  // every rank has looked before any creates it
-  const auto begin = std::chrono::steady_clock::now();
-  const SweepModel model = MakeSweepModel(grid, prepared);
-  const Totals totals = SolveLines(a, model, grid, options, journal_dir, info.fingerprint, rank, ranks);
-  Barrier();  // every journal is complete
+  GridSweepOptions run;
+  run.sweep = options;
+  run.out = a.out;
+  run.resume = a.resume;
+  run.keep_journal = a.keep_journal;
+  run.log = a.log;
+  run.info.software = "rmhb " RMHB_VERSION_STRING;
+  run.info.model = a.settings.model;
+  if (prepared.model.from_file) run.info.model_text = ReadFile(a.settings.model);
+  for (const std::string& s : a.settings.set) run.info.parameters += (run.info.parameters.empty() ? "" : " ") + s;
+  run.info.options = ResultOptions(a, options).dump();
+  for (const GridAxis& x : grid.axes()) run.info.options += " " + x.name;
+  const GridSweepSummary summary = SweepGrid(prepared.model, prepared.guess, grid, run, rank, ranks);
   if (rank != 0) return kExitOk;
-
-  const JournalContents journal = ReadJournals(journal_dir, info.fingerprint);
-  const std::vector<json> points = CollectPoints(grid, journal);
-  const std::string partial = a.out + ".partial";
-  WriteSweepFile(partial, grid, info, points);
-  fs::rename(partial, a.out);
-  if (!a.keep_journal) fs::remove_all(journal_dir);
-  if (!a.plot.empty()) PlotMap(a, grid, points);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  const json report = Report(a, grid, totals, journal, points, ranks, seconds);
+  if (!a.plot.empty()) PlotMap(a, grid, summary.point_records);
   if (a.json)
-    std::cout << report.dump(2) << "\n";
+    std::cout << summary.ToJson().dump(2) << "\n";
   else
-    PrintReport(report);
+    std::printf("%s", summary.FullReport().c_str());
   return kExitOk;
 }
 
