@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <mutex>
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 namespace rmhb {
 namespace {
@@ -22,9 +24,30 @@ inline int Mod(long a, int m) {
   return static_cast<int>(r < 0 ? r + m : r);
 }
 
+// One (forward, backward) plan pair per grid for the whole process. Plans
+// are made on fftw_malloc'd arrays and executed with the new-array interface
+// on other fftw_malloc'd arrays (same alignment), which FFTW allows and
+// which is thread-safe. They live as long as the process.
+std::pair<fftw_plan, fftw_plan> CachedPlans(const std::vector<int>& grid, long total, long half_total) {
+  static auto* cache = new std::map<std::vector<int>, std::pair<fftw_plan, fftw_plan>>;
+  std::lock_guard<std::mutex> lock(PlannerMutex());
+  auto it = cache->find(grid);
+  if (it != cache->end()) return it->second;
+  double* real = fftw_alloc_real(total);
+  fftw_complex* spectrum = fftw_alloc_complex(half_total);
+  const int dims = static_cast<int>(grid.size());
+  fftw_plan forward = fftw_plan_dft_r2c(dims, grid.data(), real, spectrum, FFTW_ESTIMATE);
+  fftw_plan backward = fftw_plan_dft_c2r(dims, grid.data(), spectrum, real, FFTW_ESTIMATE);
+  fftw_free(real);
+  fftw_free(spectrum);
+  if (!forward || !backward) throw std::runtime_error("SpectralTransform: FFTW planning failed");
+  return cache->emplace(grid, std::make_pair(forward, backward)).first->second;
+}
+
 }  // namespace
 
-SpectralTransform::SpectralTransform(const HarmonicBasis& basis, const Sampling& sampling)
+SpectralTransform::SpectralTransform(const HarmonicBasis& basis, const Sampling& sampling,
+                                     Backend backend)
     : basis_(basis), sampling_(sampling), dims_(static_cast<int>(sampling.grid.size())) {
   if (dims_ < 1 || dims_ > 3) throw std::invalid_argument("SpectralTransform: 1 to 3 grid angles");
   if (static_cast<int>(sampling.embedding.size()) != dims_)
@@ -59,22 +82,67 @@ SpectralTransform::SpectralTransform(const HarmonicBasis& basis, const Sampling&
     seen.insert(g);
   }
 
+  analysed_.resize(half_total_);
+  if (backend == Backend::kDense && dims_ != 1)
+    throw std::invalid_argument("SpectralTransform: the dense backend needs a grid of one angle");
+  dense_ = backend == Backend::kDense ||
+           (backend == Backend::kAuto && dims_ == 1 && total_ <= kMaxDenseSamples);
+  if (dense_) {
+    SetUpDense();
+    return;
+  }
   real_ = fftw_alloc_real(total_);
   spectrum_ = reinterpret_cast<std::complex<double>*>(fftw_alloc_complex(half_total_));
-  analysed_.resize(half_total_);
-  std::lock_guard<std::mutex> lock(PlannerMutex());
-  auto* c = reinterpret_cast<fftw_complex*>(spectrum_);
-  forward_ = fftw_plan_dft_r2c(dims_, sampling.grid.data(), real_, c, FFTW_ESTIMATE);
-  backward_ = fftw_plan_dft_c2r(dims_, sampling.grid.data(), c, real_, FFTW_ESTIMATE);
-  if (!forward_ || !backward_) throw std::runtime_error("SpectralTransform: FFTW planning failed");
+  const auto plans = CachedPlans(sampling.grid, total_, half_total_);
+  forward_ = plans.first;
+  backward_ = plans.second;
 }
 
 SpectralTransform::~SpectralTransform() {
-  std::lock_guard<std::mutex> lock(PlannerMutex());
-  if (forward_) fftw_destroy_plan(static_cast<fftw_plan>(forward_));
-  if (backward_) fftw_destroy_plan(static_cast<fftw_plan>(backward_));
   fftw_free(real_);
   fftw_free(spectrum_);
+}
+
+void SpectralTransform::SetUpDense() {
+  const long M = total_;
+  const int K = basis_.size();
+  // cos and sin of 2 pi j / M from one table: phases reduced mod M exactly.
+  Eigen::VectorXd c(M), s(M);
+  for (long j = 0; j < M; ++j) {
+    const double a = 2.0 * M_PI * double(j) / double(M);
+    c(j) = std::cos(a);
+    s(j) = std::sin(a);
+  }
+  synthesis_.resize(M, 2 * K - 1);
+  synthesis_.col(0).setOnes();
+  for (int k = 1; k < K; ++k)
+    for (long t = 0; t < M; ++t) {
+      const int j = Mod(long(grid_index_[k]) * t, static_cast<int>(M));
+      synthesis_(t, 2 * k - 1) = c(j);
+      synthesis_(t, 2 * k) = s(j);
+    }
+  projection_ = (2.0 / double(M)) * synthesis_.transpose();
+  projection_.row(0) *= 0.5;
+}
+
+void SpectralTransform::SetUpDenseSpectrum() {
+  const long M = total_;
+  Eigen::VectorXd c(M), s(M);
+  for (long j = 0; j < M; ++j) {
+    const double a = 2.0 * M_PI * double(j) / double(M);
+    c(j) = std::cos(a);
+    s(j) = std::sin(a);
+  }
+  spectrum_cos_.resize(half_total_, M);
+  spectrum_sin_.resize(half_total_, M);
+  for (long t = 0; t < M; ++t)
+    for (long k = 0; k < half_total_; ++k) {
+      const int j = Mod(k * t, static_cast<int>(M));
+      spectrum_cos_(k, t) = c(j) / double(M);
+      spectrum_sin_(k, t) = -s(j) / double(M);
+    }
+  half_re_.resize(half_total_);
+  half_im_.resize(half_total_);
 }
 
 long SpectralTransform::HalfIndex(const int* r) const {
@@ -95,6 +163,11 @@ std::complex<double> SpectralTransform::SpectrumAt(const int* g) const {
 }
 
 void SpectralTransform::Synthesize(const double* x, double* samples) {
+  if (dense_) {
+    Eigen::Map<Eigen::VectorXd>(samples, total_).noalias() =
+        synthesis_ * Eigen::Map<const Eigen::VectorXd>(x, synthesis_.cols());
+    return;
+  }
   std::memset(static_cast<void*>(spectrum_), 0, sizeof(std::complex<double>) * half_total_);
   const int last = sampling_.grid.back();
   spectrum_[0] += x[0];
@@ -108,13 +181,22 @@ void SpectralTransform::Synthesize(const double* x, double* samples) {
     if (r[dims_ - 1] <= last / 2) spectrum_[HalfIndex(r)] += c;
     if (n[dims_ - 1] <= last / 2) spectrum_[HalfIndex(n)] += std::conj(c);
   }
-  fftw_execute(static_cast<fftw_plan>(backward_));
+  fftw_execute_dft_c2r(static_cast<fftw_plan>(backward_), reinterpret_cast<fftw_complex*>(spectrum_), real_);
   std::memcpy(samples, real_, sizeof(double) * total_);
 }
 
-void SpectralTransform::Project(const double* samples, double* x) {
+void SpectralTransform::ForwardFftw(const double* samples) {
   std::memcpy(real_, samples, sizeof(double) * total_);
-  fftw_execute(static_cast<fftw_plan>(forward_));
+  fftw_execute_dft_r2c(static_cast<fftw_plan>(forward_), real_, reinterpret_cast<fftw_complex*>(spectrum_));
+}
+
+void SpectralTransform::Project(const double* samples, double* x) {
+  if (dense_) {
+    Eigen::Map<Eigen::VectorXd>(x, projection_.rows()).noalias() =
+        projection_ * Eigen::Map<const Eigen::VectorXd>(samples, total_);
+    return;
+  }
+  ForwardFftw(samples);
   const double inv = 1.0 / double(total_);
   const int last = sampling_.grid.back();
   x[0] = spectrum_[0].real() * inv;
@@ -132,8 +214,15 @@ void SpectralTransform::Project(const double* samples, double* x) {
 }
 
 void SpectralTransform::Analyze(const double* samples) {
-  std::memcpy(real_, samples, sizeof(double) * total_);
-  fftw_execute(static_cast<fftw_plan>(forward_));
+  if (dense_) {
+    if (spectrum_cos_.size() == 0) SetUpDenseSpectrum();
+    const Eigen::Map<const Eigen::VectorXd> p(samples, total_);
+    half_re_.noalias() = spectrum_cos_ * p;
+    half_im_.noalias() = spectrum_sin_ * p;
+    for (long i = 0; i < half_total_; ++i) analysed_[i] = {half_re_(i), half_im_(i)};
+    return;
+  }
+  ForwardFftw(samples);
   const double inv = 1.0 / double(total_);
   for (long i = 0; i < half_total_; ++i) analysed_[i] = spectrum_[i] * inv;
 }

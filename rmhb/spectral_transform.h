@@ -2,10 +2,25 @@
 #define RMHB_SPECTRAL_TRANSFORM_H_
 
 // The collocation matrices E (coefficients -> samples) and E* (samples ->
-// coefficients, E* E = I) applied through FFTW rather than as dense M x (2K-1)
-// products, plus the spectrum of sampled functions that the Jacobian needs:
+// coefficients, E* E = I) applied through FFTs (large grids) or dense
+// products with tables (small ones), plus the spectrum of sampled functions that the Jacobian needs:
 // multiplying by p(t) and projecting is a Toeplitz-plus-Hankel matrix built
 // from p's discrete Fourier coefficients at k - l and k + l.
+//
+// Two backends, the same results to round-off (tests/rmhb/
+// spectral_transform_test.cc compares them):
+//  - small one-angle grids (M <= kMaxDenseSamples): dense products with
+//    precomputed cos/sin tables, O(M K) per transform and nothing to plan.
+//    FFTW's first plan in a process costs 0.4-1 ms (its planner's set-up
+//    plus the size's own planning, FFTW_ESTIMATE), more than a whole solve
+//    of a small problem (issue 14: the pendulum at N = 25 spent most of its
+//    `rmhb solve` time planning); the dense transform of M = 80 samples
+//    costs ~1 us, and the tables cost one pass over E (the spectrum's, for
+//    the Jacobian, on first use);
+//  - otherwise FFTW, with plans made once per grid and kind per process
+//    (a cache shared by all transforms, executed on their own arrays
+//    through FFTW's new-array interface): continuation, Monte Carlo and
+//    order continuation no longer plan per solve.
 
 #include <complex>
 #include <vector>
@@ -17,16 +32,23 @@
 
 namespace rmhb {
 
+// Grids of one angle with at most this many samples use the dense backend.
+constexpr long kMaxDenseSamples = 384;
+
 class SpectralTransform {
  public:
+  enum class Backend { kAuto, kDense, kFftw };
   // Throws std::invalid_argument if two harmonics of the basis land on the
-  // same grid frequency (the grid cannot even represent the basis).
-  SpectralTransform(const HarmonicBasis& basis, const Sampling& sampling);
+  // same grid frequency (the grid cannot even represent the basis). kDense
+  // needs a grid of one angle (else std::invalid_argument).
+  SpectralTransform(const HarmonicBasis& basis, const Sampling& sampling,
+                    Backend backend = Backend::kAuto);
   ~SpectralTransform();
   SpectralTransform(const SpectralTransform&) = delete;
   SpectralTransform& operator=(const SpectralTransform&) = delete;
 
   long num_samples() const { return total_; }
+  bool dense() const { return dense_; }
   int num_coefficients() const { return basis_.num_coefficients(); }
 
   // samples = E coefficients.
@@ -49,6 +71,9 @@ class SpectralTransform {
  private:
   std::complex<double> SpectrumAt(const int* grid_index) const;
   long HalfIndex(const int* reduced) const;
+  void SetUpDense();
+  void SetUpDenseSpectrum();  // on the first Analyze: residual-only users skip it
+  void ForwardFftw(const double* samples);  // real_ -> spectrum_
 
   HarmonicBasis basis_;
   Sampling sampling_;
@@ -59,8 +84,13 @@ class SpectralTransform {
   double* real_ = nullptr;
   std::complex<double>* spectrum_ = nullptr;
   std::vector<std::complex<double>> analysed_;
-  void* forward_ = nullptr;   // fftw_plan
-  void* backward_ = nullptr;  // fftw_plan
+  void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
+  void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
+  // Dense backend: E (M x C), E* (C x M), and the half spectrum's real and
+  // imaginary rows ((M/2 + 1) x M, scaled by 1/M).
+  bool dense_ = false;
+  Eigen::MatrixXd synthesis_, projection_, spectrum_cos_, spectrum_sin_;
+  Eigen::VectorXd half_re_, half_im_;
 };
 
 }  // namespace rmhb

@@ -100,5 +100,44 @@ TEST(SpectralTransform, MultiplicationMatrixMatchesSampledProduct) {
   }
 }
 
+// The dense backend (small one-angle grids) and FFTW give the same
+// synthesis, projection and multiplication matrix to round-off, on the
+// uniform grid and on a GCD-rule grid (harmonics embedded as 3 k).
+TEST(SpectralTransform, DenseAndFftwBackendsAgree) {
+  struct Case {
+    HarmonicBasis basis;
+    Sampling sampling;
+  };
+  for (const Case& c : {Case{HarmonicBasis::Periodic(9), Sampling::Uniform(31)},
+                        Case{HarmonicBasis::Periodic(20), Sampling::Uniform(80)},
+                        Case{HarmonicBasis::Diamond(2, 2), Sampling::Gcd(40, {3, 5})}}) {
+    SpectralTransform dense(c.basis, c.sampling, SpectralTransform::Backend::kDense);
+    SpectralTransform fftw(c.basis, c.sampling, SpectralTransform::Backend::kFftw);
+    ASSERT_TRUE(dense.dense());
+    ASSERT_FALSE(fftw.dense());
+    const int C = c.basis.num_coefficients();
+    const long M = dense.num_samples();
+    const Eigen::VectorXd x = Random(C, 11), p = Random(static_cast<int>(M), 12);
+    Eigen::VectorXd s1(M), s2(M), y1(C), y2(C);
+    dense.Synthesize(x.data(), s1.data());
+    fftw.Synthesize(x.data(), s2.data());
+    EXPECT_LT((s1 - s2).cwiseAbs().maxCoeff(), 1e-13) << c.sampling.description;
+    dense.Project(p.data(), y1.data());
+    fftw.Project(p.data(), y2.data());
+    EXPECT_LT((y1 - y2).cwiseAbs().maxCoeff(), 1e-14) << c.sampling.description;
+    std::vector<double> rate(c.basis.size());
+    for (int k = 0; k < c.basis.size(); ++k) rate[k] = 0.7 * k;
+    Eigen::MatrixXd B1 = Eigen::MatrixXd::Zero(C, C), B2 = B1;
+    dense.Analyze(p.data());
+    fftw.Analyze(p.data());
+    dense.AddMultiplicationMatrix(1.0, rate.data(), B1);
+    fftw.AddMultiplicationMatrix(1.0, rate.data(), B2);
+    EXPECT_LT((B1 - B2).cwiseAbs().maxCoeff(), 1e-13) << c.sampling.description;
+  }
+  EXPECT_THROW(SpectralTransform(HarmonicBasis::Diamond(2, 2), Sampling::Torus({9, 9}),
+                                 SpectralTransform::Backend::kDense),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace rmhb
