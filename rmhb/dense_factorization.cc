@@ -20,10 +20,9 @@ void dgecon_(const char* norm, const int* n, const double* a, const int* lda, co
              double* rcond, double* work, int* iwork, int* info, std::size_t norm_len);
 void dgeqrf_(const int* m, const int* n, double* a, const int* lda, double* tau, double* work,
              const int* lwork, int* info);
-void dormqr_(const char* side, const char* trans, const int* m, const int* n, const int* k,
+void dorm2r_(const char* side, const char* trans, const int* m, const int* n, const int* k,
              const double* a, const int* lda, const double* tau, double* c, const int* ldc,
-             double* work, const int* lwork, int* info, std::size_t side_len,
-             std::size_t trans_len);
+             double* work, int* info, std::size_t side_len, std::size_t trans_len);
 void dtrtrs_(const char* uplo, const char* trans, const char* diag, const int* n, const int* nrhs,
              const double* a, const int* lda, double* b, const int* ldb, int* info,
              std::size_t uplo_len, std::size_t trans_len, std::size_t diag_len);
@@ -82,10 +81,10 @@ DenseLu& DenseLu::compute(Eigen::MatrixXd&& A) {
                                 std::to_string(A.cols()) + ", not square");
   const int n = Dimension(A.rows(), "DenseLu");
   pivots_.assign(n, 0);
-  rcond_ = 0;
+  rcond_ = -1;  // estimated on first request
   singular_ = false;
   // dgecon needs the 1-norm of A itself, before it is overwritten.
-  const double norm = n ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0;
+  norm_ = n ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0;
   lu_ = std::move(A);
   if (n == 0) return *this;
   PinThreads(n);
@@ -93,12 +92,21 @@ DenseLu& DenseLu::compute(Eigen::MatrixXd&& A) {
   dgetrf_(&n, &n, lu_.data(), &n, pivots_.data(), &info);
   if (info < 0) throw std::logic_error("dgetrf: argument " + std::to_string(-info) + " invalid");
   singular_ = info > 0;
-  if (singular_ || !std::isfinite(norm)) return *this;
+  return *this;
+}
+
+double DenseLu::rcond() const {
+  if (rcond_ >= 0) return rcond_;
+  rcond_ = 0;
+  const int n = static_cast<int>(lu_.rows());
+  if (n == 0 || singular_ || !std::isfinite(norm_)) return rcond_;
   std::vector<double> work(4 * static_cast<std::size_t>(n));
   std::vector<int> iwork(n);
-  dgecon_("1", &n, lu_.data(), &n, &norm, &rcond_, work.data(), iwork.data(), &info, 1);
+  int info = 0;
+  PinThreads(n);
+  dgecon_("1", &n, lu_.data(), &n, &norm_, &rcond_, work.data(), iwork.data(), &info, 1);
   if (info != 0) rcond_ = 0;
-  return *this;
+  return rcond_;
 }
 
 Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const { return Solve(b, "N"); }
@@ -151,17 +159,15 @@ Eigen::VectorXd DenseQr::solve(const Eigen::VectorXd& b) const {
   Eigen::VectorXd c = b;
   if (n == 0) return Eigen::VectorXd(0);
   PinThreads(n);
-  // Q' b, then R x = (Q' b)(0:n).
+  // Q' b, then R x = (Q' b)(0:n). One right-hand side: the unblocked
+  // dorm2r applies the reflectors one by one (2 m n flops); the blocked
+  // dormqr would first build the block reflector (dlarft, O(n^2 nb)) on
+  // every call, which was most of a small Newton step's cost.
   const int one = 1;
-  int info = 0, query = -1;
-  double size = 0;
-  dormqr_("L", "T", &m, &one, &n, qr_.data(), &m, tau_.data(), c.data(), &m, &size, &query, &info,
-          1, 1);
-  const int lwork = std::max(1, static_cast<int>(size));
-  std::vector<double> work(lwork);
-  dormqr_("L", "T", &m, &one, &n, qr_.data(), &m, tau_.data(), c.data(), &m, work.data(), &lwork,
-          &info, 1, 1);
-  if (info != 0) throw std::logic_error("dormqr: argument " + std::to_string(-info) + " invalid");
+  int info = 0;
+  double work = 0;  // dorm2r needs n_rhs = 1 doubles of work
+  dorm2r_("L", "T", &m, &one, &n, qr_.data(), &m, tau_.data(), c.data(), &m, &work, &info, 1, 1);
+  if (info != 0) throw std::logic_error("dorm2r: argument " + std::to_string(-info) + " invalid");
   dtrtrs_("U", "N", "N", &n, &one, qr_.data(), &m, c.data(), &m, &info, 1, 1, 1);
   if (info < 0) throw std::logic_error("dtrtrs: argument " + std::to_string(-info) + " invalid");
   if (info > 0) return NotANumber(n);

@@ -2,7 +2,7 @@
 #define RMHB_DENSE_FACTORIZATION_H_
 
 // Dense LU (partial pivoting) and Householder QR of the Newton Jacobian
-// through LAPACK (dgetrf/dgetrs/dgecon, dgeqrf/dormqr/dtrtrs) from OpenBLAS.
+// through LAPACK (dgetrf/dgetrs/dgecon, dgeqrf/dorm2r/dtrtrs) from OpenBLAS.
 // The factorisation is O(n^3) and dominates every large solve: Van der Pol at
 // eps = 50 needs N = 6000, a 12002 x 12002 Jacobian. Measured on this
 // project's 2-core machine (tests/benchmarks/dense_factorization_benchmark),
@@ -53,8 +53,9 @@ class DenseLu {
   // x with A' x = b, from the same factors (condition estimators need it).
   Eigen::VectorXd solve_transposed(const Eigen::VectorXd& b) const;
   // Reciprocal 1-norm condition estimate (Hager/Higham, dgecon); 0 when
-  // singular.
-  double rcond() const { return rcond_; }
+  // singular. Computed on the first call after compute (O(n^2), a few
+  // solves): a Newton iteration that never asks does not pay for it.
+  double rcond() const;
   bool singular() const { return singular_; }
 
  private:
@@ -62,7 +63,8 @@ class DenseLu {
   std::vector<int> pivots_;
   Eigen::VectorXd Solve(const Eigen::VectorXd& b, const char* trans) const;
 
-  double rcond_ = 0;
+  mutable double rcond_ = 0;  // -1: not estimated yet
+  double norm_ = 0;           // 1-norm of the matrix factorised
   bool singular_ = true;
 };
 

@@ -35,25 +35,24 @@ class NewtonFactorization {
     // the QR of J D_c has J's Q and R D_c, so only the columns are scaled.
     row_ = square_ ? e.row : Eigen::VectorXd::Ones(J.rows());
     column_ = e.column;
+    scaled_ = scaled;
+    estimated_ = false;
     if (square_) {
-      lu_.compute(Eigen::MatrixXd(row_.asDiagonal() * J * column_.asDiagonal()));
-      scaled_reciprocal_condition_ = lu_.rcond();
-      reciprocal_condition_ = scaled_reciprocal_condition_;
-      if (scaled) {
-        const double inverse_norm = InverseOneNorm();
-        const double norm = J.cwiseAbs().colwise().sum().maxCoeff();
-        reciprocal_condition_ =
-            std::isfinite(inverse_norm) && inverse_norm > 0 && norm > 0 ? 1 / (norm * inverse_norm) : 0;
-      }
+      scratch_.noalias() = row_.asDiagonal() * J * column_.asDiagonal();
+      lu_.compute(std::move(scratch_));
+      // |J|_1 now, while J is at hand; the estimates wait for a request.
+      norm_ = J.cwiseAbs().colwise().sum().maxCoeff();
     } else {
-      qr_.compute(Eigen::MatrixXd(row_.asDiagonal() * J * column_.asDiagonal()));
-      const Eigen::VectorXd r = qr_.matrixQR().diagonal();
-      scaled_reciprocal_condition_ = DiagonalRatio(r);
-      reciprocal_condition_ = DiagonalRatio(r.cwiseQuotient(column_));
+      scratch_.noalias() = row_.asDiagonal() * J * column_.asDiagonal();
+      qr_.compute(std::move(scratch_));
     }
   }
-  double reciprocal_condition() const { return reciprocal_condition_; }
-  double scaled_reciprocal_condition() const { return scaled_reciprocal_condition_; }
+  // The condition estimates of the last factorisation, computed on first
+  // request: the summary reports the final Jacobian's only, so the O(n^2)
+  // estimators (dgecon, Hager-Higham: a dozen solves) no longer run at
+  // every factorisation of a solve.
+  double reciprocal_condition() const { return Estimate(), reciprocal_condition_; }
+  double scaled_reciprocal_condition() const { return Estimate(), scaled_reciprocal_condition_; }
   const Eigen::VectorXd& row() const { return row_; }
   const Eigen::VectorXd& column() const { return column_; }
   // The scaled Newton step y for the residual F (unscaled).
@@ -99,8 +98,29 @@ class NewtonFactorization {
     return std::max(estimate, 2 * solve(b).lpNorm<1>() / (3.0 * n));
   }
 
-  bool square_ = true;
-  double reciprocal_condition_ = 0, scaled_reciprocal_condition_ = 0;
+  void Estimate() const {
+    if (estimated_) return;
+    estimated_ = true;
+    if (square_) {
+      scaled_reciprocal_condition_ = lu_.rcond();
+      reciprocal_condition_ = scaled_reciprocal_condition_;
+      if (scaled_) {
+        const double inverse_norm = InverseOneNorm();
+        reciprocal_condition_ =
+            std::isfinite(inverse_norm) && inverse_norm > 0 && norm_ > 0 ? 1 / (norm_ * inverse_norm) : 0;
+      }
+    } else {
+      const Eigen::VectorXd r = qr_.matrixQR().diagonal();
+      scaled_reciprocal_condition_ = DiagonalRatio(r);
+      reciprocal_condition_ = DiagonalRatio(r.cwiseQuotient(column_));
+    }
+  }
+
+  bool square_ = true, scaled_ = false;
+  mutable bool estimated_ = false;
+  double norm_ = 0;
+  Eigen::MatrixXd scratch_;  // J_s before it moves into the factorisation
+  mutable double reciprocal_condition_ = 0, scaled_reciprocal_condition_ = 0;
   Eigen::VectorXd row_, column_;
   DenseLu lu_;  // LAPACK: 1.4-2.4x faster than Eigen's at large n
   DenseQr qr_;
@@ -238,7 +258,14 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   s.num_unknowns = problem.num_unknowns();
   s.num_residuals = problem.num_residuals();
   s.scaling = options.scaling;
+  NewtonFactorization factorization;
+  bool ever_factored = false;
   auto finish = [&](SolverStatus status, std::string message) {
+    // The last factorised Jacobian's condition, also when failing.
+    if (ever_factored && s.reciprocal_condition == 0) {
+      s.reciprocal_condition = factorization.reciprocal_condition();
+      s.scaled_reciprocal_condition = factorization.scaled_reciprocal_condition();
+    }
     s.status = status;
     s.message = std::move(message);
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -311,7 +338,6 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   };
   double lambda = options.initial_lambda;
   int stalled = 0;
-  NewtonFactorization factorization;
   bool factored = false, chord = false;
 
   auto out_of_time = [&] {
@@ -344,8 +370,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         rescale();
         norm = scaled_norm(F);
         factorization.Factor(J, scaling, scaled);
-        s.reciprocal_condition = factorization.reciprocal_condition();
-        s.scaled_reciprocal_condition = factorization.scaled_reciprocal_condition();
+        ever_factored = true;
         factored = true;
         chord = false;
       }
@@ -488,6 +513,10 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     if (step <= options.step_tolerance * x_size) break;
     // Slow progress at a tiny step is a least-squares floor, not a failure.
     if (stalled >= 3 && step <= 1e3 * options.step_tolerance * x_size) break;
+  }
+  if (ever_factored) {
+    s.reciprocal_condition = factorization.reciprocal_condition();
+    s.scaled_reciprocal_condition = factorization.scaled_reciprocal_condition();
   }
   if (s.reciprocal_condition == 0 && (method != SolverMethod::kNewton || s.iterations == 0)) {
     // Converged at the start (a warm start from a lower order), or a
