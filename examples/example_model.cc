@@ -51,8 +51,14 @@ Model ExampleModel(const std::string& name, const std::map<std::string, double>&
   return p;
 }
 
-Model LoadModelOrExample(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
-  return LooksLikeFile(name_or_path) ? LoadModel(name_or_path, overrides) : ExampleModel(name_or_path, overrides);
+Model LoadModelOrExample(const std::string& name_or_path, const std::map<std::string, double>& overrides,
+                         EquationsRoute route) {
+  if (LooksLikeFile(name_or_path)) return LoadModel(name_or_path, overrides, route);
+  // A bundled example is its hand-written recast.
+  if (route == EquationsRoute::kOriginal)
+    throw std::invalid_argument("--equations original: the bundled example '" + name_or_path +
+                                "' is a hand-written recast; use its model file (examples/models/)");
+  return ExampleModel(name_or_path, overrides);
 }
 
 }  // namespace rmhb::examples

@@ -22,7 +22,10 @@ Model ExampleModel(const std::string& name, const std::map<std::string, double>&
 // a model file (rmhb::LoadModel); anything else an example name. Throws
 // std::invalid_argument (unknown example/parameter) or model::ModelError
 // (file:line:column).
-Model LoadModelOrExample(const std::string& name_or_path, const std::map<std::string, double>& overrides = {});
+// `route`: the equations a model file is solved on (rmhb/pipeline/model.h);
+// kOriginal is refused for an example name (a hand-written recast).
+Model LoadModelOrExample(const std::string& name_or_path, const std::map<std::string, double>& overrides = {},
+                         EquationsRoute route = EquationsRoute::kRecast);
 
 }  // namespace rmhb::examples
 

@@ -35,6 +35,16 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
     ce.first_row = row;
     ce.balance_constant = eq.balance_constant;
     row += eq.balance_constant ? C_ : C_ - 1;
+    if (eq.pointwise) {
+      ce.pointwise = eq.pointwise.get();
+      ce.pointwise_index = static_cast<int>(pointwise_values_.size());
+      pointwise_values_.emplace_back(M_, 1 + eq.pointwise->slots.size());
+      for (const Slot& slot : eq.pointwise->slots) {
+        auto [it, fresh] = slot_index.try_emplace(slot, static_cast<int>(slots_.size()));
+        if (fresh) slots_.push_back({slot.variable, slot.derivative});
+        ce.slots.push_back(it->second);
+      }
+    }
     for (const auto& [mono, c] : eq.lhs.terms()) {
       CompiledTerm t{c, -1, {}};
       if (mono.time.kind != TimeFunction::Kind::kOne) {
@@ -67,7 +77,7 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
   frequency_column_ = n_ * C_;
   definitions_.assign(n_, Definition{});
   for (int j = 0; j < n_; ++j) column_.push_back(j * C_);
-  if (condense_definitions && problem.symmetries.empty()) SetUpCondensation();
+  if (condense_definitions) SetUpCondensation();
   full_unknowns_ = num_unknowns_;
   full_residuals_ = num_residuals_;
   SetUpSymmetries();
@@ -79,6 +89,7 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
   coef_.resize(C_);
   block_.resize(C_, C_);
   rates_.resize(basis.size());
+  for (long t = 0; t < M_; ++t) sample_phase_.push_back(transform_->Phase({1}, t));
 }
 
 void CollocationResidual::SetUpSymmetries() {
@@ -92,11 +103,13 @@ void CollocationResidual::SetUpSymmetries() {
     for (int c = 0; c < C_; ++c) {
       bool keep = true;
       for (const auto& s : problem_.symmetries) keep = keep && allowed(c, s.sign[j], s);
-      if (keep) kept_unknowns_.push_back(j * C_ + c);
+      // In the condensed layout (column_ is j C_ without condensation).
+      if (keep && column_[j] >= 0) kept_unknowns_.push_back(column_[j] + c);
     }
-  for (int u = n_ * C_; u < full_unknowns_; ++u) kept_unknowns_.push_back(u);
+  for (int u = frequency_column_; u < full_unknowns_; ++u) kept_unknowns_.push_back(u);
   for (size_t i = 0; i < equations_.size(); ++i) {
     const CompiledEquation& eq = equations_[i];
+    if (eq.first_row < 0) continue;  // condensed away
     const int skip = eq.balance_constant ? 0 : 1;
     std::vector<int> signs;
     for (const auto& s : problem_.symmetries)
@@ -216,16 +229,17 @@ void CollocationResidual::Frequencies(const Eigen::VectorXd& x, std::vector<doub
 
 Eigen::VectorXd CollocationResidual::Pack(const Eigen::MatrixXd& coefficients,
                                           const std::vector<double>& frequencies) const {
+  // The layout, then condensed, then reduced by the symmetries.
   Eigen::VectorXd x(layout_size_);
   for (int j = 0; j < n_; ++j) x.segment(j * C_, C_) = coefficients.row(j).transpose();
   for (int b = 0; b < basis_.num_bases(); ++b)
     if (unknown_index_[b] >= 0) x(n_ * C_ + unknown_index_[b]) = frequencies[b];
   if (num_condensed_ > 0) {
-    Eigen::VectorXd condensed(num_unknowns_);
+    Eigen::VectorXd condensed(full_unknowns_);
     for (int j = 0; j < n_; ++j)
       if (column_[j] >= 0) condensed.segment(column_[j], C_) = x.segment(j * C_, C_);
-    condensed.tail(num_unknowns_ - frequency_column_) = x.tail(layout_size_ - n_ * C_);
-    return condensed;
+    condensed.tail(full_unknowns_ - frequency_column_) = x.tail(layout_size_ - n_ * C_);
+    x = std::move(condensed);
   }
   if (kept_unknowns_.empty()) return x;
   Eigen::VectorXd reduced(num_unknowns_);
@@ -235,18 +249,51 @@ Eigen::VectorXd CollocationResidual::Pack(const Eigen::MatrixXd& coefficients,
 
 void CollocationResidual::Unpack(const Eigen::VectorXd& x, Eigen::MatrixXd* coefficients,
                                  std::vector<double>* frequencies) const {
-  Eigen::VectorXd full = Eigen::VectorXd::Zero(layout_size_);
-  if (num_condensed_ > 0) Expand(x, &full);
-  else if (kept_unknowns_.empty()) full = x;
+  // Reduced -> condensed (zeros where a symmetry excludes) -> the layout.
+  Eigen::VectorXd condensed = Eigen::VectorXd::Zero(full_unknowns_);
+  if (kept_unknowns_.empty()) condensed = x;
   else
-    for (int i = 0; i < num_unknowns_; ++i) full(kept_unknowns_[i]) = x(i);
+    for (int i = 0; i < num_unknowns_; ++i) condensed(kept_unknowns_[i]) = x(i);
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(layout_size_);
+  if (num_condensed_ > 0) Expand(condensed, &full);
+  else full = condensed;
   coefficients->resize(n_, C_);
   for (int j = 0; j < n_; ++j) coefficients->row(j) = full.segment(j * C_, C_).transpose();
   Frequencies(full, frequencies);
 }
 
+void CollocationResidual::EvaluatePointwise(const std::vector<double>& w) {
+  for (const CompiledEquation& eq : equations_) {
+    if (!eq.pointwise) continue;
+    const size_t n = eq.slots.size();
+    pointwise_in_.resize(1 + n + w.size());
+    pointwise_out_.resize(1 + n);
+    Eigen::MatrixXd& values = pointwise_values_[eq.pointwise_index];
+    for (size_t b = 0; b < w.size(); ++b) pointwise_in_[1 + n + b] = w[b];
+    for (long t = 0; t < M_; ++t) {
+      // t = theta_1 / w_1: explicit time only in models of one known base
+      // (the model layer refuses the others).
+      pointwise_in_[0] = sample_phase_[t] / w[0];
+      for (size_t i = 0; i < n; ++i) pointwise_in_[1 + i] = slot_samples_[eq.slots[i]](t);
+      eq.pointwise->evaluate(pointwise_in_.data(), pointwise_out_.data());
+      for (size_t i = 0; i <= n; ++i) values(t, static_cast<long>(i)) = pointwise_out_[i];
+    }
+  }
+}
+
 void CollocationResidual::EvaluateSamples(const CompiledEquation& eq, int slot, double* out) const {
   Eigen::Map<Eigen::VectorXd> result(out, M_);
+  if (eq.pointwise) {
+    const Eigen::MatrixXd& values = pointwise_values_[eq.pointwise_index];
+    if (slot < 0) {
+      result = values.col(0);
+      return;
+    }
+    result.setZero();  // a slot listed twice adds up
+    for (size_t i = 0; i < eq.slots.size(); ++i)
+      if (eq.slots[i] == slot) result += values.col(static_cast<long>(i) + 1);
+    return;
+  }
   result.setZero();
   Eigen::VectorXd& term = const_cast<Eigen::VectorXd&>(term_);
   for (const auto& t : eq.terms) {
@@ -271,12 +318,9 @@ void CollocationResidual::EvaluateSamples(const CompiledEquation& eq, int slot, 
 
 bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                    Eigen::MatrixXd* jacobian) {
-  if (num_condensed_ > 0) {
-    Expand(x, &expanded_);
-    return EvaluateFull(expanded_, residual, jacobian);
-  }
-  if (kept_unknowns_.empty()) return EvaluateFull(x, residual, jacobian);
-  const bool ok = EvaluateFull(Full(x), &full_residual_, jacobian ? &full_jacobian_ : nullptr);
+  const Eigen::VectorXd& X = Layout(x);
+  if (kept_unknowns_.empty()) return EvaluateFull(X, residual, jacobian);
+  const bool ok = EvaluateFull(X, &full_residual_, jacobian ? &full_jacobian_ : nullptr);
   residual->resize(num_residuals_);
   for (int r = 0; r < num_residuals_; ++r) (*residual)(r) = full_residual_(kept_residuals_[r]);
   if (jacobian) {
@@ -305,6 +349,7 @@ void CollocationResidual::SampleSlots(const Eigen::VectorXd& x) {
       transform_->Synthesize(coef_.data(), slot_samples_[s].data());
     }
   }
+  if (!pointwise_values_.empty()) EvaluatePointwise(w);
 }
 
 const Eigen::VectorXd& CollocationResidual::Full(const Eigen::VectorXd& x) {
@@ -313,14 +358,16 @@ const Eigen::VectorXd& CollocationResidual::Full(const Eigen::VectorXd& x) {
   return full_x_;
 }
 
+const Eigen::VectorXd& CollocationResidual::Layout(const Eigen::VectorXd& x) {
+  const Eigen::VectorXd& condensed = Full(x);
+  if (num_condensed_ == 0) return condensed;
+  Expand(condensed, &expanded_);
+  return expanded_;
+}
+
 void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x, Eigen::MatrixXd* value_part,
                                              Eigen::MatrixXd* derivative_part) {
-  if (num_condensed_ > 0) {
-    Expand(x, &expanded_);
-    SampleSlots(expanded_);
-  } else {
-    SampleSlots(Full(x));
-  }
+  SampleSlots(Layout(x));
   value_part->setZero(n_ * C_, n_ * C_);
   derivative_part->setZero(n_ * C_, n_ * C_);
   for (size_t i = 0; i < equations_.size(); ++i) {

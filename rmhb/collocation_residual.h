@@ -18,7 +18,7 @@
 // Those rows are exact, so b and its rows leave the problem and the chain
 // rule folds b's Jacobian columns into a's and w's: half the unknowns of a
 // second-order oscillator, about 8x less work in the dense factorisation.
-// Not combined with symmetries (those problems keep the full layout).
+// Symmetries then act on the condensed unknowns and rows (both halve).
 
 #include <memory>
 #include <vector>
@@ -79,6 +79,10 @@ class CollocationResidual : public NonlinearProblem {
     std::vector<int> slots;  // slots appearing in the equation
     int first_row;           // in the residual vector
     bool balance_constant;
+    // Pointwise equations (PolynomialSystem::AddPointwiseEquation): the
+    // evaluator, and where its values live in pointwise_values_.
+    const PointwiseEquation* pointwise = nullptr;
+    int pointwise_index = -1;
   };
   struct SlotInfo {
     int variable;
@@ -99,12 +103,19 @@ class CollocationResidual : public NonlinearProblem {
                         const Eigen::Ref<const Eigen::MatrixXd>& block, int j,
                         const Eigen::VectorXd& X) const;
   int FrequencyColumn(int base) const { return frequency_column_ + unknown_index_[base]; }
-  // The reduced vector on the full unknowns (x itself without symmetries).
+  // The reduced vector on the full unknowns (x itself without symmetries):
+  // the condensed layout when condensing.
   const Eigen::VectorXd& Full(const Eigen::VectorXd& x);
+  // The solver's vector in the layout EvaluateFull reads (symmetries
+  // undone, condensed variables computed).
+  const Eigen::VectorXd& Layout(const Eigen::VectorXd& x);
   // Samples of every slot, z_j = E X_j and z_j' = E D(w) X_j, for full x.
   void SampleSlots(const Eigen::VectorXd& x);
   // p = sum over terms of d(term)/d(slot), or the whole equation if slot < 0.
   void EvaluateSamples(const CompiledEquation& eq, int slot, double* out) const;
+  // Every pointwise equation and its partials at every sample (after
+  // SampleSlots), into pointwise_values_.
+  void EvaluatePointwise(const std::vector<double>& w);
 
   const HarmonicBalanceProblem& problem_;
   HarmonicBasis basis_;
@@ -140,6 +151,10 @@ class CollocationResidual : public NonlinearProblem {
   Eigen::VectorXd work_, term_, proj_, coef_;
   Eigen::MatrixXd block_;
   std::vector<double> rates_;
+  // Per pointwise equation: samples x (value, d/d(slot) per slot of eq.slots).
+  std::vector<Eigen::MatrixXd> pointwise_values_;
+  std::vector<double> pointwise_in_, pointwise_out_;
+  std::vector<double> sample_phase_;  // 2 pi s / M of base 1, per sample
 };
 
 }  // namespace rmhb

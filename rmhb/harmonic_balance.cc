@@ -75,6 +75,36 @@ std::string Gib(double bytes) {
   return out.str();
 }
 
+// Pointwise equations alias at every M. The solution's residual on a grid
+// twice as fine (max|F| relative to max(1, max|coefficient|)) measures how
+// much of it rests on the folded harmonics: at the truncation level for a
+// solution of the equations, O(1) for one that exists only at the samples.
+// False (and non-physical) above options.definition_check.floor.
+bool AliasCheck(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions& options,
+                HarmonicBalanceSummary* summary) {
+  const HarmonicSolution& s = *summary->solution;
+  std::vector<int> fine;
+  long total = 1;
+  for (int m : summary->samples) fine.push_back(FftFriendlySize(2 * m)), total *= fine.back();
+  if (total > options.max_samples) return true;  // not checked: too large a grid
+  const Sampling sampling = fine.size() == 1 ? Sampling::Uniform(fine[0]) : Sampling::Torus(fine);
+  CollocationResidual residual(problem, s.basis(), sampling, options.condense_definitions);
+  Eigen::VectorXd F;
+  residual.Evaluate(residual.Pack(s.coefficients(), s.frequencies()), &F, nullptr);
+  const double scale = std::max(1.0, s.coefficients().cwiseAbs().maxCoeff());
+  summary->alias_residual = F.size() ? F.cwiseAbs().maxCoeff() / scale : 0.0;
+  summary->alias_check_samples = fine;
+  if (summary->alias_residual <= options.definition_check.floor) return true;
+  std::ostringstream why;
+  why.precision(3);
+  why << "the residual on " << total << " samples (twice the solve's) is " << summary->alias_residual
+      << " (relative) > " << options.definition_check.floor
+      << ": the solution holds at the samples only (aliasing of the pointwise equations)";
+  summary->physical = false;
+  summary->non_physical = why.str();
+  return false;
+}
+
 // Sets summary->physical: a converged solution whose unknown frequency
 // collapsed (Newton on a singular system may slide to w = 0, a constant) or
 // whose auxiliaries are not their definitions is no oscillation of the model.
@@ -112,6 +142,7 @@ void CheckPhysical(const HarmonicBalanceProblem& problem, const HarmonicBalanceO
       return;
     }
   }
+  if (problem.system.HasPointwise() && !AliasCheck(problem, options, summary)) return;
   // Without auxiliaries every variable is a state: nothing to compare.
   const std::vector<Variable>& variables = problem.system.variables();
   if (!problem.definitions ||
@@ -162,7 +193,10 @@ std::string HarmonicBalanceSummary::BriefReport() const {
   std::ostringstream out;
   out << ToString(rule) << " order " << order << ", samples";
   for (int m : samples) out << " " << m;
-  out << (alias_free ? " (alias-free)" : " (ALIASED)") << ": " << ToString(solver.status)
+  // Pointwise (original) equations have no alias-free count (written as 0).
+  const bool pointwise = !alias_free_samples.empty() && alias_free_samples[0] == 0;
+  out << (alias_free ? " (alias-free)" : pointwise ? " (original equations, pointwise)" : " (ALIASED)") << ": "
+      << ToString(solver.status)
       << " in " << solver.iterations << " iterations, max|F| " << solver.final_residual << ", "
       << seconds * 1e3 << " ms";
   if (!physical) out << "; NON-PHYSICAL: " << non_physical;
@@ -271,7 +305,11 @@ HarmonicBalanceSummary SolveAtOrder(const HarmonicBalanceProblem& problem,
                                 " samples, over the limit of " + std::to_string(options.max_samples));
   for (size_t b = 0; b < summary.samples.size(); ++b)
     summary.alias_free = summary.alias_free && summary.samples[b] >= summary.alias_free_samples[b];
-  if (!summary.alias_free && !options.allow_aliasing && options.rule != SamplingRule::kHdhb)
+  // Pointwise (original) equations alias at any M: checked after the solve
+  // on a finer grid instead (AliasCheck).
+  const bool pointwise = problem.system.HasPointwise();
+  if (pointwise) summary.alias_free = false;
+  if (!summary.alias_free && !pointwise && !options.allow_aliasing && options.rule != SamplingRule::kHdhb)
     throw std::invalid_argument(
         "samples below the alias-free bound (" + std::to_string(summary.alias_free_samples[0]) +
         "); aliasing gives non-physical solutions. Use the hdhb method or allow aliasing explicitly");

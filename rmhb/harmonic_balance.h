@@ -66,8 +66,8 @@ struct HarmonicBalanceOptions {
   bool order_continuation = true;
   // Eliminate variables defined by a linear equation c1 a' + c2 b = 0 (the
   // recast's x' = v) and their rows (CollocationResidual): the same discrete
-  // solution with half the unknowns of a second-order oscillator. Ignored
-  // with symmetries.
+  // solution with half the unknowns of a second-order oscillator (with
+  // symmetries too: they then act on the condensed unknowns).
   bool condense_definitions = true;
   // Automatic order selection when > 0: solve at `order`, then raise the
   // order, warm-started, to where the decay of the highest harmonics says
@@ -116,6 +116,10 @@ struct HarmonicBalanceSummary {
   bool physical = true;
   std::string non_physical;
   std::optional<DefinitionCheck> definition_check;
+  // Pointwise (original) equations only: max|F| on a grid twice as fine,
+  // relative to max(1, max|coefficient|), and that grid (-1, empty: not run).
+  double alias_residual = -1;
+  std::vector<int> alias_check_samples;
 
   bool converged() const { return solver.converged(); }
   // Converged and physical: the solution can be used.

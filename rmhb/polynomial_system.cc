@@ -16,8 +16,21 @@ int PolynomialSystem::AddVariable(const std::string& name, VariableRole role,
 }
 
 int PolynomialSystem::AddEquation(Polynomial lhs, bool balance_constant) {
-  equations_.push_back({std::move(lhs), balance_constant});
+  equations_.push_back({std::move(lhs), balance_constant, nullptr});
   return num_equations() - 1;
+}
+
+int PolynomialSystem::AddPointwiseEquation(PointwiseEquation equation) {
+  if (!equation.evaluate) throw std::invalid_argument("PolynomialSystem: a pointwise equation needs an evaluator");
+  Equation e;
+  e.pointwise = std::make_shared<const PointwiseEquation>(std::move(equation));
+  equations_.push_back(std::move(e));
+  return num_equations() - 1;
+}
+
+bool PolynomialSystem::HasPointwise() const {
+  return std::any_of(equations_.begin(), equations_.end(),
+                     [](const Equation& e) { return e.pointwise != nullptr; });
 }
 
 Polynomial PolynomialSystem::Var(int j) const {
@@ -80,6 +93,13 @@ void PolynomialSystem::Validate() const {
     throw std::invalid_argument(msg.str());
   }
   for (int i = 0; i < num_equations(); ++i) {
+    if (const auto& p = equations_[i].pointwise) {
+      for (const Slot& slot : p->slots)
+        if (slot.variable < 0 || slot.variable >= num_variables() || slot.derivative < 0 || slot.derivative > 1)
+          throw std::invalid_argument("PolynomialSystem: pointwise equation " + std::to_string(i + 1) +
+                                      " references an undeclared variable");
+      continue;
+    }
     if (equations_[i].lhs.IsZero())
       throw std::invalid_argument("PolynomialSystem: equation " + std::to_string(i + 1) +
                                   " is identically zero");
@@ -88,9 +108,12 @@ void PolynomialSystem::Validate() const {
                                   " references an undeclared variable");
   }
   std::vector<bool> used(variables_.size(), false);
-  for (const auto& e : equations_)
+  for (const auto& e : equations_) {
     for (const auto& [m, c] : e.lhs.terms())
       for (const auto& f : m.factors) used[f.first.variable] = true;
+    if (e.pointwise)
+      for (const Slot& slot : e.pointwise->slots) used[slot.variable] = true;
+  }
   for (int j = 0; j < num_variables(); ++j)
     if (!used[j])
       throw std::invalid_argument("PolynomialSystem: variable '" + variables_[j].name +
@@ -106,8 +129,13 @@ std::string PolynomialSystem::ToString() const {
     if (v.role == VariableRole::kAuxiliary)
       out << (v.definition.empty() ? "(aux)" : "(= " + v.definition + ")");
   }
-  out << "\nequations (degree phi = " << Degree() << "):\n";
+  if (HasPointwise()) out << "\nequations (original, not polynomial):\n";
+  else out << "\nequations (degree phi = " << Degree() << "):\n";
   for (const auto& e : equations_) {
+    if (e.pointwise) {
+      out << "  " << e.pointwise->text << "   [evaluated pointwise at the samples]\n";
+      continue;
+    }
     out << "  " << e.lhs.ToString(n) << " = 0";
     if (!e.balance_constant) out << "   [constant term not balanced; pinned at t = 0]";
     out << "\n";

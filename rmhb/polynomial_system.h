@@ -7,6 +7,8 @@
 // keeps second derivatives inside nonlinear terms (asymmetric pendulum) and
 // algebraic constraints (u^2 + v^2 - 1 = 0) without special cases.
 
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,13 +27,34 @@ struct Variable {
   std::string definition;  // for auxiliaries, e.g. "sin(theta)"; documentation only
 };
 
+// An equation evaluated pointwise at the samples instead of as a polynomial:
+// the model's equation as written, sin(theta) and (1 - x'^2)^(3/2) included
+// (HB-AFT on the original equations, METHOD.md s.13). Its value and its
+// partial derivatives in `slots` come from `evaluate` at each sample. No
+// finite sample count is alias-free for it (a non-polynomial term has
+// harmonics of every order); the samples are chosen well above the basis
+// and the solution is checked on a finer grid (HarmonicBalanceSummary::
+// alias_check).
+struct PointwiseEquation {
+  std::vector<Slot> slots;  // the inputs after t, in this order
+  // in: t, the slot values, then the base frequencies; out: the value, then
+  // d/d(slot) for every slot. Must be callable from several threads.
+  std::function<void(const double* in, double* out)> evaluate;
+  std::string text;  // as the user wrote it, for reports
+  // How the equation transforms when every variable changes sign and t
+  // moves by half the period of one base (x -> -x, t -> t + T/2): -1 or +1
+  // when known to be invariant (HalfTurnSymmetry::EquationSign), 0 not.
+  int half_wave_sign = 0;
+};
+
 struct Equation {
-  Polynomial lhs;  // lhs = 0
+  Polynomial lhs;  // lhs = 0 (zero when pointwise)
   // A variable defined only through its derivative (s' = c v for s = sin(theta))
   // is fixed up to a constant. The paper (METHOD.md s.4, eq. 24) drops the
   // constant-term balance of such an equation and pins the value at t = 0
   // with a condition instead.
   bool balance_constant = true;
+  std::shared_ptr<const PointwiseEquation> pointwise;  // set: evaluated pointwise, lhs unused
 };
 
 class PolynomialSystem {
@@ -39,6 +62,11 @@ class PolynomialSystem {
   int AddVariable(const std::string& name, VariableRole role = VariableRole::kState,
                   const std::string& definition = "");
   int AddEquation(Polynomial lhs, bool balance_constant = true);
+  int AddPointwiseEquation(PointwiseEquation equation);
+  // Whether any equation is pointwise: then no sample count is alias-free
+  // and Degree(), ForcingReach() and AliasFreeSamples() describe the
+  // polynomial equations only.
+  bool HasPointwise() const;
 
   // Convenience for the builder API: sys.Var("x") or sys.Var(0).
   Polynomial Var(int j) const;

@@ -108,8 +108,18 @@ std::vector<int> SamplesForRule(const PolynomialSystem& system, const HarmonicBa
                                 SamplingRule rule, std::vector<int>* alias_free) {
   std::vector<int> out, minimum;
   const int phi = std::max(system.Degree(), 1);
+  const bool pointwise = system.HasPointwise();
   for (int b = 0; b < basis.num_bases(); ++b) {
     const int reach = basis.Reach(b);
+    if (pointwise) {
+      minimum.push_back(0);
+      int n = 1;
+      while (n < 4 * reach + 1) n *= 2;
+      out.push_back(rule == SamplingRule::kHdhb ? 2 * reach + 1
+                    : rule == SamplingRule::kAft ? n
+                                                 : FftFriendlySize(kPointwiseOversampling * reach + 1));
+      continue;
+    }
     const int m = system.AliasFreeSamples(reach, b);
     minimum.push_back(m);
     switch (rule) {

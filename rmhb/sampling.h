@@ -54,7 +54,13 @@ std::vector<int> RationalRatios(const std::vector<double>& frequencies, double t
 int FftFriendlySize(int m);
 
 // Samples along each base for `rule` on this system and basis; the per-base
-// alias-free minimum is written to `alias_free` when given.
+// alias-free minimum is written to `alias_free` when given. A system with
+// pointwise equations (PolynomialSystem::HasPointwise) has no alias-free
+// count (0 is written): rhb then takes M >= kPointwiseOversampling reach + 1
+// (the harmonics that fold onto the kept ones are those beyond M - N >= 2N,
+// the square of the truncated tail for a geometrically decaying spectrum),
+// aft the power of two >= 4 reach + 1 (NLvib's rule), hdhb 2 reach + 1.
+constexpr int kPointwiseOversampling = 3;
 std::vector<int> SamplesForRule(const PolynomialSystem& system, const HarmonicBasis& basis,
                                 SamplingRule rule, std::vector<int>* alias_free = nullptr);
 

@@ -25,6 +25,15 @@ int HalfTurnSymmetry::EquationSign(const PolynomialSystem& system, int equation,
     if (h != 0 && h != 1) throw std::invalid_argument(name + ": half-turn flags must be 0 or 1");
   for (int s : sign)
     if (s != 1 && s != -1) throw std::invalid_argument(name + ": signs must be +1 or -1");
+  if (const auto& p = system.equations()[equation].pointwise) {
+    // Known only for the half-wave map of one base with every sign flipped.
+    bool all_flip = true;
+    for (int s : sign) all_flip = all_flip && s == -1;
+    if (num_bases != 1 || half_turn[0] != 1 || !all_flip || p->half_wave_sign == 0)
+      throw std::invalid_argument("equation " + std::to_string(equation + 1) + " (evaluated pointwise) is not known "
+                                  "to be invariant under the " + name);
+    return p->half_wave_sign;
+  }
   int result = 0;
   for (const auto& [mono, c] : system.equations()[equation].lhs.terms()) {
     int s = 1;

@@ -82,13 +82,20 @@ void AddSolveSettings(CLI::App* app, ModelSettings* m) {
                   "--tol stops at the largest order under it (default 4)");
   app->add_option("--max-order", a->max_order, "Highest order --tol may choose (default 5000)")
       ->check(CLI::Range(1, 20000));
+  app->add_option("--equations", a->equations,
+                  "Equations a model file is solved on: recast (polynomial, RHB alias-free, default), "
+                  "original (as written, evaluated pointwise: fewer unknowns, aliasing checked on a "
+                  "grid twice as fine) or auto (original when the recast needs auxiliaries)")
+      ->check(CLI::IsMember({"recast", "original", "auto"}));
 }
 
 PreparedSolve Prepare(const ModelSettings& m, const std::map<std::string, double>& overrides) {
   if (const std::string error = m.solve.IsValid(); !error.empty()) throw std::invalid_argument(error);
   std::map<std::string, double> values = ParseOverrides(m.set);
   for (const auto& [name, value] : overrides) values[name] = value;
-  return PrepareSolve(examples::LoadModelOrExample(m.model, values), m.solve);
+  if (const std::string error = m.solve.IsValid(); !error.empty()) throw std::invalid_argument(error);
+  return PrepareSolve(examples::LoadModelOrExample(m.model, values, ParseEquationsRoute(m.solve.equations)),
+                      m.solve);
 }
 
 }  // namespace rmhb::cli

@@ -167,6 +167,7 @@ class Recaster {
       });
     }
     source_ = -1;
+    BuildOriginalProblem(&result);
 
     // 5. Guess.
     BuildGuess(system, &result);
@@ -578,6 +579,97 @@ class Recaster {
                internal::Print(e) + ")",
            "t");
     Fail("internal: not polynomial after the recast: " + internal::Print(e));
+  }
+
+  // ---- the original equations, pointwise ------------------------------------------------
+  // The recast's chain variables and chain equations (its first ones), the
+  // user equations as written, the user's conditions (on chain variables).
+  void BuildOriginalProblem(RecastResult* result) const {
+    const PolynomialSystem& full = result->problem.system;
+    int num_chain_variables = 0, num_chain_equations = 0;
+    for (int L : chain_) num_chain_variables += L, num_chain_equations += L - 1;
+    const bool several = bases_.symbols.size() > 1;
+    bool unknown = false;
+    for (bool u : bases_.unknown) unknown = unknown || u;
+    HarmonicBalanceProblem p;
+    for (int j = 0; j < num_chain_variables; ++j)
+      p.system.AddVariable(full.variables()[j].name, VariableRole::kState, full.variables()[j].definition);
+    for (int i = 0; i < num_chain_equations; ++i) p.system.AddEquation(full.equations()[i].lhs);
+    for (std::size_t i = 0; i < s_.equations.size(); ++i) {
+      const ex e = Substituted(s_.equations[i]).subs(bases_.KnownValues());
+      const std::string where = "equation " + std::to_string(i + 1);
+      for (const auto& w : unknown_bases_)
+        if (e.has(w)) return void(result->original_problem_error = where + " contains the unknown frequency");
+      if (e.has(s_.t) && (several || unknown))
+        return void(result->original_problem_error =
+                        where + " has explicit time with " + (several ? "several base frequencies" : "an unknown frequency"));
+      std::vector<ex> inputs{s_.t}, outputs{e};
+      PointwiseEquation pointwise;
+      for (std::size_t v = 0; v < chain_.size(); ++v)
+        for (int j = 0; j <= chain_[v] && j < static_cast<int>(s_.derivatives[v].size()); ++j) {
+          const ex& sym = s_.derivatives[v][j];
+          if (!e.has(sym)) continue;
+          const SlotRef ref = slots_.at(sym);
+          pointwise.slots.push_back({ref.variable, ref.derivative});
+          inputs.push_back(sym);
+          outputs.push_back(e.diff(GiNaC::ex_to<GiNaC::symbol>(sym)));
+        }
+      for (const auto& b : bases_.symbols) inputs.push_back(b);
+      std::shared_ptr<const CompiledFunction> tape;
+      try {
+        tape = std::make_shared<const CompiledFunction>(internal::Compile(outputs, inputs));
+      } catch (const std::exception& err) {
+        return void(result->original_problem_error = where + ": " + err.what());
+      }
+      pointwise.evaluate = [tape](const double* in, double* out) {
+        thread_local std::vector<double> work;
+        tape->Evaluate(in, out, &work);
+      };
+      pointwise.text = model_.equations[i].text;
+      pointwise.half_wave_sign = HalfWaveSign(pointwise, bases_.values);
+      p.system.AddPointwiseEquation(std::move(pointwise));
+    }
+    p.frequencies = result->problem.frequencies;
+    p.unknown_frequency = result->problem.unknown_frequency;
+    p.conditions.assign(result->problem.conditions.begin(),
+                        result->problem.conditions.begin() + result->num_user_conditions);
+    if (p.frequencies.size() == 1) {
+      HalfTurnSymmetry half_wave{{1}, std::vector<int>(p.system.num_variables(), -1),
+                                 "x -> -x with t + T/2 (odd harmonics only)"};
+      try {
+        for (int i = 0; i < p.system.num_equations(); ++i) half_wave.EquationSign(p.system, i, 1);
+        result->original_half_wave = half_wave;
+      } catch (const std::invalid_argument&) {
+      }
+    }
+    result->original_problem = std::move(p);
+  }
+
+  // +1 or -1 when g(t + T/2, -z) = +-g(t, z) at a few points within the
+  // domain of every test case here (|z| <= 1/2), 0 otherwise (or with
+  // several bases).
+  static int HalfWaveSign(const PointwiseEquation& e, const std::vector<double>& w) {
+    if (w.size() != 1 || !(w[0] > 0)) return 0;
+    const std::size_t n = e.slots.size();
+    std::vector<double> in(2 + n), flipped(2 + n), out(1 + n), out_flipped(1 + n);
+    int sign = 0;
+    for (int point = 0; point < 6; ++point) {
+      in[0] = 0.37 + 1.3 * point;
+      flipped[0] = in[0] + M_PI / w[0];
+      for (std::size_t i = 0; i < n; ++i) {
+        in[1 + i] = 0.5 * std::sin(1.7 * point + 2.3 * double(i) + 0.4);
+        flipped[1 + i] = -in[1 + i];
+      }
+      in[1 + n] = flipped[1 + n] = w[0];
+      e.evaluate(in.data(), out.data());
+      e.evaluate(flipped.data(), out_flipped.data());
+      const double a = out[0], b = out_flipped[0], tol = 1e-12 * (1 + std::abs(a));
+      if (!std::isfinite(a) || !std::isfinite(b)) return 0;
+      const int s = std::abs(a + b) <= tol ? -1 : std::abs(a - b) <= tol ? 1 : 0;
+      if (s == 0 || (sign != 0 && s != sign && std::abs(a) > tol)) return 0;
+      if (std::abs(a) > tol) sign = s;
+    }
+    return sign;
   }
 
   // ---- conditions -------------------------------------------------------------------

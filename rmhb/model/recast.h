@@ -74,6 +74,23 @@ struct RecastResult {
   int degree = 0;  // phi, PolynomialSystem::Degree()
   int num_user_conditions = 0;
 
+  // The model's equations as written, for harmonic balance without the
+  // recast (HB-AFT, METHOD.md s.13): the user variables and their
+  // derivative chains (the recast's first variables and chain equations,
+  // same names and order), each user equation evaluated pointwise with its
+  // exact partial derivatives (compiled), the user's conditions. Fewer
+  // unknowns than the recast (no auxiliaries) and no recast truncation, but
+  // no alias-free sample count. Empty, with the reason in
+  // original_problem_error, when a user equation has explicit time with an
+  // unknown base or several bases, or the unknown base frequency itself.
+  std::optional<HarmonicBalanceProblem> original_problem;
+  std::string original_problem_error;
+  // x -> -x for every variable with t -> t + T/2, when every equation of
+  // original_problem is invariant under it (checked numerically on the
+  // compiled equations): a solution from a guess with only odd harmonics
+  // keeps only odd harmonics (rmhb/symmetry.h). Not imposed here.
+  std::optional<HalfTurnSymmetry> original_half_wave;
+
   // The original equations for the integrators; empty (with the reason in
   // original_error) when the model is not an explicit ODE.
   std::optional<OriginalSystem> original;

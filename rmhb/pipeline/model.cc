@@ -1,6 +1,7 @@
 #include "rmhb/pipeline/model.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
@@ -12,7 +13,77 @@
 
 namespace rmhb {
 
-Model LoadModel(const std::string& path, const std::map<std::string, double>& overrides) {
+const char* ToString(EquationsRoute route) {
+  switch (route) {
+    case EquationsRoute::kRecast: return "recast";
+    case EquationsRoute::kOriginal: return "original";
+    case EquationsRoute::kAuto: return "auto";
+  }
+  return "?";
+}
+
+EquationsRoute ParseEquationsRoute(const std::string& name) {
+  if (name == "recast") return EquationsRoute::kRecast;
+  if (name == "original") return EquationsRoute::kOriginal;
+  if (name == "auto") return EquationsRoute::kAuto;
+  throw std::invalid_argument("unknown equations '" + name + "' (expected recast, original or auto)");
+}
+
+namespace {
+
+// The model on its original equations: the problem, and the guess and the
+// seeding map cut to the user variables and their chains (the recast's
+// first variables, in the same order).
+void UseOriginalEquations(const std::shared_ptr<model::RecastResult>& recast, Model* p) {
+  const int n = recast->original_problem->system.num_variables();
+  p->problem = *recast->original_problem;
+  p->guess = [recast, n](int order) {
+    const HarmonicSolution full = recast->InitialGuess(order);
+    const std::vector<Variable>& all = full.variables();
+    return HarmonicSolution(full.basis(), full.frequencies(), full.coefficients().topRows(n),
+                            std::vector<Variable>(all.begin(), all.begin() + n));
+  };
+  if (p->variables) {
+    const seeding::StateToVariables full = p->variables;
+    p->variables = [full, n](const std::vector<double>& theta, const std::vector<Eigen::VectorXd>& y) {
+      return Eigen::VectorXd(full(theta, y).head(n));
+    };
+  }
+  if (recast->original_half_wave) p->invariances = {*recast->original_half_wave};
+  p->recast_report = "original equations, evaluated pointwise (HB-AFT; no alias-free sample count):\n" +
+                     p->problem.system.ToString();
+  p->equations = "original";
+}
+
+bool HasAuxiliaries(const HarmonicBalanceProblem& problem) {
+  for (const Variable& v : problem.system.variables())
+    if (v.role == VariableRole::kAuxiliary) return true;
+  return false;
+}
+
+void ChooseEquations(const std::shared_ptr<model::RecastResult>& recast, EquationsRoute route, Model* p) {
+  if (route == EquationsRoute::kRecast) return;
+  if (!recast->original_problem) {
+    if (route == EquationsRoute::kOriginal)
+      throw std::invalid_argument("the original equations cannot be solved as written: " +
+                                  recast->original_problem_error);
+    p->equations_note = "recast: " + recast->original_problem_error;
+    return;
+  }
+  if (route == EquationsRoute::kAuto && !HasAuxiliaries(recast->problem)) {
+    p->equations_note = "recast: polynomial, alias-free at the same size";
+    return;
+  }
+  UseOriginalEquations(recast, p);
+  if (route == EquationsRoute::kAuto)
+    p->equations_note = "original: the recast needs " +
+                        std::to_string(recast->problem.system.num_variables() - p->problem.system.num_variables()) +
+                        " auxiliaries";
+}
+
+}  // namespace
+
+Model LoadModel(const std::string& path, const std::map<std::string, double>& overrides, EquationsRoute route) {
   const model::ModelDefinition definition = model::LoadModelFile(path);
   auto recast = std::make_shared<model::RecastResult>(model::Recast(definition, overrides));
   Model p;
@@ -72,7 +143,8 @@ Model LoadModel(const std::string& path, const std::map<std::string, double>& ov
   p.num_user_conditions = recast->num_user_conditions;
   p.definition = std::make_shared<const model::ModelDefinition>(definition);
   p.overrides = overrides;
-  p.reload = [path](const model::ParameterValues& values) { return LoadModel(path, values); };
+  p.reload = [path, route](const model::ParameterValues& values) { return LoadModel(path, values, route); };
+  ChooseEquations(recast, route, &p);
   return p;
 }
 
@@ -120,6 +192,25 @@ HarmonicSolution GuessAtOrder(const Model& model, int order) {
   std::vector<double> w = guess.frequencies();
   for (size_t b = 0; b < w.size(); ++b) w[b] = model.problem.frequencies[b];
   return guess.WithFrequencies(w);
+}
+
+int ImposeGuessSymmetries(const HarmonicSolution& guess, Model* model) {
+  int imposed = 0;
+  const Eigen::MatrixXd& c = guess.coefficients();
+  const double scale = c.size() ? c.cwiseAbs().maxCoeff() : 0.0;
+  for (const HalfTurnSymmetry& s : model->invariances) {
+    if (static_cast<int>(s.sign.size()) != c.rows() || guess.basis().num_bases() != static_cast<int>(s.half_turn.size()))
+      continue;
+    double off = 0;
+    for (int j = 0; j < c.rows(); ++j)
+      for (int k = 0; k < guess.basis().size(); ++k)
+        if (!s.Allows(guess.basis().harmonic(k), s.sign[j]))
+          off = std::max(off, k == 0 ? std::abs(c(j, 0)) : std::hypot(c(j, 2 * k - 1), c(j, 2 * k)));
+    if (off > 1e-14 * scale) continue;
+    model->problem.symmetries.push_back(s);
+    ++imposed;
+  }
+  return imposed;
 }
 
 const char* OriginalIntegrator(const Model& source) {

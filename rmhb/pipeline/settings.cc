@@ -18,6 +18,8 @@ std::string SolveSettings::IsValid() const {
   if (shape != "diamond" && shape != "box") return "--basis must be diamond or box (got '" + shape + "')";
   if (max_iterations < 1) return "--max-iterations must be >= 1";
   if (max_order < 1) return "--max-order must be >= 1";
+  if (equations != "recast" && equations != "original" && equations != "auto")
+    return "--equations must be recast, original or auto (got '" + equations + "')";
   return "";
 }
 

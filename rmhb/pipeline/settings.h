@@ -43,6 +43,9 @@ struct SolveSettings {
   double tol = 0;  // > 0: choose the order automatically (HarmonicBalanceOptions::tolerance)
   int max_order = 5000;  // the order selection's limit
   double max_jacobian_gib = 4;  // HarmonicBalanceOptions::max_jacobian_bytes in GiB
+  // recast, original, auto (EquationsRoute, rmhb/pipeline/model.h): applied
+  // when the model file is loaded (examples::LoadModelOrExample).
+  std::string equations = "recast";
   // Empty when valid, else what is wrong (naming the CLI's option).
   std::string IsValid() const;
 };

@@ -39,7 +39,12 @@ json SamplesJson(const std::vector<int>& samples) { return samples.size() == 1 ?
 std::string Details(const SolveSummary& s) {
   const HarmonicBalanceSummary& hb = s.harmonic_balance;
   std::string out = "\n" + s.model_name + ": " + s.equation + "\n";
-  out += Format("recast (phi = %d):\n", hb.degree) + s.recast;
+  if (s.equations == "original")
+    out += "original equations (" + (s.equations_note.empty() ? std::string("--equations original") : s.equations_note) +
+           "):\n" + s.recast;
+  else
+    out += Format("recast (phi = %d):\n", hb.degree) + s.recast;
+  for (const std::string& symmetry : s.symmetries) out += "symmetry     " + symmetry + " (the guess has it)\n";
   out += "status       " + s.status_word() + (hb.solver.message.empty() ? "" : ": ") + hb.solver.message + "\n";
   out += Format("residual     %.3e after %d iterations (%s)\n", hb.solver.final_residual, hb.solver.iterations,
                 ToString(hb.solver.method));
@@ -129,6 +134,9 @@ json SolveSummary::ToJson() const {
   out["message"] = hb.solver.message;
   out["start"] = start_route;
   if (!start_note.empty()) out["start_note"] = start_note;
+  out["equations"] = equations;
+  if (!equations_note.empty()) out["equations_note"] = equations_note;
+  if (!symmetries.empty()) out["symmetries"] = symmetries;
   out["method"] = ToString(options.rule);
   out["solver"] = ToString(hb.solver.method);
   out["order"] = hb.order;
@@ -183,8 +191,16 @@ json SolveSummary::ToJson() const {
   return out;
 }
 
-SolveSummary SolveModel(const Model& model, const HarmonicSolution& guess, const SolveOptions& options) {
+SolveSummary SolveModel(const Model& given, const HarmonicSolution& guess, const SolveOptions& options) {
   if (const std::string error = options.IsValid(); !error.empty()) throw std::invalid_argument(error);
+  // The equations' symmetries that the guess has: half the unknowns, the
+  // same answer (ImposeGuessSymmetries). A copy only when there are any.
+  std::optional<Model> symmetric;
+  if (!given.invariances.empty()) {
+    symmetric = given;
+    if (ImposeGuessSymmetries(guess, &*symmetric) == 0) symmetric.reset();
+  }
+  const Model& model = symmetric ? *symmetric : given;
   if (options.validate && !model.original && !model.original_dae)
     throw std::invalid_argument("cannot validate: " + model.original_error);
   SolveSummary s;
@@ -192,6 +208,10 @@ SolveSummary SolveModel(const Model& model, const HarmonicSolution& guess, const
   s.model_name = model.name;
   s.equation = model.equation;
   s.recast = model.problem.system.ToString();
+  s.equations = model.equations;
+  s.equations_note = model.equations_note;
+  for (size_t i = given.problem.symmetries.size(); i < model.problem.symmetries.size(); ++i)
+    s.symmetries.push_back(model.problem.symmetries[i].description);
   s.bases = static_cast<int>(model.problem.frequencies.size());
   s.reference = model.reference;
   StartedSolve started = options.auto_start

@@ -80,6 +80,11 @@ struct SolveSummary {
   std::optional<StabilitySummary> stability;
   // The model, for the reports.
   std::string model_name, equation, recast;
+  // Which equations were solved ("recast" or "original", Model::equations),
+  // why, and the symmetries imposed because the guess had them
+  // (ImposeGuessSymmetries).
+  std::string equations = "recast", equations_note;
+  std::vector<std::string> symmetries;
   int bases = 1;
 
   bool converged() const { return harmonic_balance.converged(); }
