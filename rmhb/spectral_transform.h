@@ -84,6 +84,7 @@ class SpectralTransform {
   double* real_ = nullptr;
   std::complex<double>* spectrum_ = nullptr;
   std::vector<std::complex<double>> analysed_;
+  mutable std::vector<std::complex<double>> line_spectrum_;  // one angle: P[g], g = -span..span
   void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
   void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
   // Dense backend: E (M x C), E* (C x M), and the half spectrum's real and
