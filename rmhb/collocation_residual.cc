@@ -1,5 +1,6 @@
 #include "rmhb/collocation_residual.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -17,6 +18,7 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
                                 std::to_string(problem.frequencies.size()) + " frequencies");
   transform_ = std::make_unique<SpectralTransform>(basis, sampling);
   n_ = problem.system.num_variables();
+  degree_ = std::max(1, problem.system.Degree());
   C_ = basis.num_coefficients();
   M_ = transform_->num_samples();
 
@@ -386,6 +388,16 @@ void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x, Eigen::Ma
 bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                        Eigen::MatrixXd* jacobian) {
   SampleSlots(x);
+  // Samples so large that a term of the system's degree overflows are no
+  // admissible point (a guess at 1.8e308: Rayleigh-Plesset without gas
+  // pressure). FFTW's butterflies happened to turn them into inf; the dense
+  // transforms do not, so it is said here on purpose.
+  double largest = 0;
+  for (const Eigen::VectorXd& z : slot_samples_) largest = std::max(largest, z.cwiseAbs().maxCoeff());
+  if (!std::isfinite(std::pow(largest, degree_))) {
+    residual->setConstant(full_residuals_, INFINITY);
+    return false;
+  }
 
   residual->resize(full_residuals_);
   if (jacobian) jacobian->setZero(full_residuals_, full_unknowns_);

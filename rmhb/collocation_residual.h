@@ -121,6 +121,7 @@ class CollocationResidual : public NonlinearProblem {
   HarmonicBasis basis_;
   std::unique_ptr<SpectralTransform> transform_;
   int n_;  // variables
+  int degree_ = 1;  // of the polynomial equations, at least 1 (overflow test)
   int C_;  // coefficients per variable
   long M_;
   int num_unknowns_;
