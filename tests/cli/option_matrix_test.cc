@@ -49,7 +49,7 @@ const std::map<std::string, std::string>& Samples() {
       {"--set", "F=0.8"}, {"--order", "20"}, {"--frequencies", "1.5"}, {"--sampling", "gcd"}, {"--basis", "box"},
       {"--samples", "64"}, {"--method", "hdhb"}, {"--solver", "lm"}, {"--scaling", "none"},
       {"--max-iterations", "50"}, {"--allow-aliasing", ""}, {"--residual-tol", "1e-12"}, {"--tol", "1e-8"},
-      {"--max-jacobian-gib", "2"}, {"--max-order", "64"}, {"--eval", "0:0.5:2"}, {"--csv", "{dir}/out.csv"},
+      {"--max-jacobian-gib", "2"}, {"--max-order", "64"}, {"--equations", "auto"}, {"--eval", "0:0.5:2"}, {"--csv", "{dir}/out.csv"},
       {"--validate", ""}, {"--stability", ""}, {"--validate-periods", "2"}, {"--plot", "{dir}/plot.png"},
       {"--json", ""}, {"--quiet", ""}, {"--continue", "w=1:1.2"}, {"--steps", "5"}, {"--max-step", "0.1"},
       {"--natural", ""}, {"--plot-var", "x"}, {"--no-stability", ""}, {"--t-end", "80"}, {"--transient", "20"},

@@ -261,11 +261,11 @@ TEST(HalfTurnSymmetry, ReducedAndFullSolvesAgree) {
   const examples::ExampleSetup e = examples::BuildExample("asym-pendulum");
   examples::ExampleSetup full = e;
   full.problem.symmetries.clear();
-  const HarmonicBalanceSummary reduced_solve = Solve(e, 3);
   HarmonicBalanceOptions o;
   o.order = 3;
   o.basis_for_order = e.basis_for_order;
   o.condense_definitions = false;  // count the unknowns of the same layout
+  const HarmonicBalanceSummary reduced_solve = SolveHarmonicBalance(e.problem, e.guess, o);
   const HarmonicBalanceSummary full_solve = SolveHarmonicBalance(full.problem, full.guess, o);
   ASSERT_TRUE(reduced_solve.converged() && full_solve.converged());
   // The beat basis has odd fast indices only, so z -> -z removes just the
