@@ -1,16 +1,37 @@
 #include "rmhb/continuation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+
+#include "rmhb/branch_stability.h"
+#include "rmhb/parameterized_residual.h"
 
 namespace rmhb {
 
 const char* ToString(ContinuationMethod method) {
   return method == ContinuationMethod::kNatural ? "natural" : "pseudo-arclength";
+}
+
+const char* ToString(StabilityMethod method) {
+  switch (method) {
+    case StabilityMethod::kAuto: return "auto";
+    case StabilityMethod::kHill: return "hill";
+    case StabilityMethod::kMonodromy: return "monodromy";
+    case StabilityMethod::kNone: break;
+  }
+  return "none";
+}
+
+StabilityMethod ParseStabilityMethod(const std::string& name) {
+  for (StabilityMethod m : {StabilityMethod::kAuto, StabilityMethod::kHill, StabilityMethod::kMonodromy})
+    if (name == ToString(m)) return m;
+  throw std::invalid_argument("unknown stability method '" + name + "' (auto, hill, monodromy)");
 }
 
 const char* ToString(ContinuationStatus status) {
@@ -21,6 +42,7 @@ const char* ToString(ContinuationStatus status) {
     case ContinuationStatus::kPointLimit: return "point_limit";
     case ContinuationStatus::kTimeLimit: return "time_limit";
     case ContinuationStatus::kStartFailed: return "start_failed";
+    case ContinuationStatus::kStopped: return "stopped";
   }
   return "unknown";
 }
@@ -48,9 +70,13 @@ std::string ContinuationOptions::IsValid() const {
   if (max_corrector_iterations < 1) return "max_corrector_iterations must be >= 1";
   if (!(max_turn > 0 && max_turn <= M_PI)) return "max_turn must be in (0, pi]";
   if (max_points < 2) return "max_points must be >= 2";
-  if (max_stability_unknowns < 0) return "max_stability_unknowns must be >= 0";
+  if (max_hill_unknowns < 0 || max_cross_check_unknowns < 0) return "max_hill_unknowns and max_cross_check_unknowns must be >= 0";
   if (!(max_seconds >= 0)) return "max_seconds must be >= 0";
   if (!(fold_tolerance > 0)) return "fold_tolerance must be > 0";
+  if (!(neutral_band >= 0 && neutral_band < 1)) return "neutral_band must be in [0, 1)";
+  if (!(bifurcation_tolerance > 0) || !std::isfinite(bifurcation_tolerance))
+    return "bifurcation_tolerance must be finite and > 0";
+  if (stability_method == StabilityMethod::kNone) return "stability_method none: set stability = false instead";
   return harmonic_balance.IsValid();
 }
 
@@ -62,8 +88,16 @@ std::string ContinuationSummary::BriefReport() const {
     out << " at " << parameter << " = " << points.back().parameter;
   out << ", " << points.size() << " points";
   if (method == ContinuationMethod::kPseudoArclength) out << ", " << num_folds << " fold(s)";
+  int counts[4] = {0, 0, 0, 0};
+  for (const BifurcationPoint& b : bifurcations) ++counts[static_cast<int>(b.type)];
+  for (BifurcationType type : {BifurcationType::kBranchPoint, BifurcationType::kPeriodDoubling,
+                               BifurcationType::kNeimarkSacker})
+    if (counts[static_cast<int>(type)] > 0) out << ", " << counts[static_cast<int>(type)] << " " << ShortName(type);
   out << ", " << accepted_steps << " steps (" << rejected_steps << " refused), arclength "
       << arclength << ", " << seconds * 1e3 << " ms";
+  if (hill_points + monodromy_points > 0)
+    out << " (stability: " << hill_points << " Hill, " << monodromy_points << " monodromy, "
+        << stability_seconds * 1e3 << " ms)";
   return out.str();
 }
 
@@ -71,15 +105,19 @@ std::string ContinuationSummary::FullReport() const {
   std::ostringstream out;
   out << BriefReport() << "\n";
   if (!message.empty()) out << "  " << message << "\n";
-  if (!stability_note.empty()) out << "  stability unknown: " << stability_note << "\n";
+  if (!stability_note.empty()) out << "  stability unknown at some points: " << stability_note << "\n";
+  if (!stability_cross_check.empty()) out << "  stability cross-check: " << stability_cross_check << "\n";
+  for (const BifurcationPoint& b : bifurcations) out << "  " << b.Describe(parameter) << "\n";
   out << "  order " << order << ", samples";
   for (int m : samples) out << " " << m;
   out << "\n";
-  char line[200];
+  char line[240];
   for (const ContinuationPoint& p : points) {
-    std::snprintf(line, sizeof line, "  %s = %-22.16g w = %-20.15g max|F| = %.1e  %-8s%s\n",
+    std::snprintf(line, sizeof line, "  %s = %-22.16g w = %-20.15g max|F| = %.1e  %-8s max|mu| = %-12.9g %-9s%s%s\n",
                   parameter.c_str(), p.parameter, p.solution.frequencies()[0], p.residual,
-                  ToString(p.stability), p.fold ? "  fold" : "");
+                  ToString(p.stability), p.max_multiplier, ToString(p.stability_method),
+                  p.bifurcation >= 0 ? "  " : "",
+                  p.bifurcation >= 0 ? ShortName(bifurcations[p.bifurcation].type) : "");
     out << line;
   }
   return out.str();
@@ -89,164 +127,21 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The harmonic balance residual F(x, lambda), rebuilding the problem when
-// lambda changes. Two builds are kept: the current value and its
-// finite-difference neighbour, so that a Newton iteration costs two builds.
-class ParameterizedResidual {
- public:
-  ParameterizedResidual(const ContinuationProblem& problem, HarmonicBasis basis, Sampling sampling)
-      : problem_(problem), basis_(std::move(basis)), sampling_(std::move(sampling)) {
-    CollocationResidual* r = At(problem.start);
-    if (!r) throw std::invalid_argument("cannot build the problem at " + problem.parameter + " = " +
-                                        std::to_string(problem.start) + ": " + refusal_);
-    n_ = r->num_unknowns();
-    m_ = r->num_residuals();
-  }
-
-  int n() const { return n_; }
-  int m() const { return m_; }
-  // Why the model last refused a value (empty when it has not since the
-  // last ClearRefusal).
-  const std::string& refusal() const { return refusal_; }
-  void ClearRefusal() { refusal_.clear(); }
-  const HarmonicBasis& basis() const { return basis_; }
-
-  // The residual at lambda; nullptr when the model refuses the value.
-  CollocationResidual* At(double lambda) { return Get(&current_, lambda); }
-  // The problem at lambda (after At(lambda) has succeeded).
-  const HarmonicBalanceProblem& ProblemAt(double lambda) {
-    At(lambda);
-    return *current_.problem;
-  }
-
-  // F(x, lambda) and, when `jacobian` is given, [F_x F_lambda] (m x (n+1)).
-  bool Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* F,
-                Eigen::MatrixXd* jacobian) {
-    CollocationResidual* r = At(lambda);
-    if (!r || !r->Evaluate(x, F, jacobian ? &jx_ : nullptr)) return false;
-    if (!jacobian) return true;
-    jacobian->resize(m_, n_ + 1);
-    jacobian->leftCols(n_) = jx_;
-    // Forward difference; backward where the model refuses lambda + h (the
-    // edge of its domain, e.g. beta -> 1), which is then no refusal.
-    const std::string refusal = refusal_;
-    for (double h : {1e-7 * (1 + std::abs(lambda)), -1e-7 * (1 + std::abs(lambda))}) {
-      CollocationResidual* shifted = Get(&neighbour_, lambda + h);
-      if (shifted && shifted->Evaluate(x, &shifted_f_, nullptr)) {
-        jacobian->col(n_) = (shifted_f_ - *F) / h;
-        refusal_ = refusal;
-        return jacobian->allFinite();
-      }
-    }
-    return false;
-  }
-
- private:
-  struct Build {
-    double lambda = std::numeric_limits<double>::quiet_NaN();
-    // The residual refers to the problem: destroyed first, built second.
-    std::unique_ptr<HarmonicBalanceProblem> problem;
-    std::unique_ptr<CollocationResidual> residual;
-  };
-
-  CollocationResidual* Get(Build* b, double lambda) {
-    if (b->lambda == lambda) return b->residual.get();
-    b->residual.reset();
-    b->problem.reset();
-    b->lambda = lambda;
-    try {
-      b->problem = std::make_unique<HarmonicBalanceProblem>(problem_.build(lambda));
-      b->residual = std::make_unique<CollocationResidual>(*b->problem, basis_, sampling_);
-    } catch (const std::exception& e) {
-      // A value outside the model's domain: this step fails, the trace goes on.
-      std::ostringstream why;
-      why << "at " << problem_.parameter << " = " << lambda << ": " << e.what();
-      refusal_ = why.str();
-      b->residual.reset();
-      return nullptr;
-    }
-    if (n_ >= 0 && (b->residual->num_unknowns() != n_ || b->residual->num_residuals() != m_))
-      throw std::invalid_argument(
-          "the problem's structure changes with " + problem_.parameter + " (at " +
-          std::to_string(lambda) + ": " + std::to_string(b->residual->num_unknowns()) +
-          " unknowns, " + std::to_string(b->residual->num_residuals()) + " residuals; at the start " +
-          std::to_string(n_) + ", " + std::to_string(m_) + ")");
-    return b->residual.get();
-  }
-
-  const ContinuationProblem& problem_;
-  HarmonicBasis basis_;
-  Sampling sampling_;
-  int n_ = -1, m_ = -1;
-  std::string refusal_;
-  Build current_, neighbour_;
-  Eigen::MatrixXd jx_;
-  Eigen::VectorXd shifted_f_;
+// A point found inside a step (a fold or a bifurcation), added before the
+// step's end point in the order of its arclength s from the step's start.
+struct Event {
+  double s = 0;
+  ContinuationPoint point;
+  BifurcationPoint bifurcation;
+  bool at_step_end = false;  // not located: it marks the step's own end point
 };
-
-// The corrector's system in y = (x, lambda): F(x, lambda) = 0 and one linear
-// condition a . (y - anchor) = step. With a the branch tangent this is the
-// pseudo-arclength condition; with a = e_lambda it fixes lambda (natural
-// continuation, and landing exactly on the end of the range).
-class BorderedSystem : public NonlinearProblem {
- public:
-  explicit BorderedSystem(ParameterizedResidual* f) : f_(f) {}
-  void Aim(const Eigen::VectorXd& anchor, const Eigen::VectorXd& direction, double step) {
-    anchor_ = anchor;
-    direction_ = direction;
-    step_ = step;
-  }
-  int num_unknowns() const override { return f_->n() + 1; }
-  int num_residuals() const override { return f_->m() + 1; }
-  bool Evaluate(const Eigen::VectorXd& y, Eigen::VectorXd* residual,
-                Eigen::MatrixXd* jacobian) override {
-    const int n = f_->n(), m = f_->m();
-    if (!f_->Evaluate(y.head(n), y(n), &f_value_, jacobian ? &f_jacobian_ : nullptr)) return false;
-    residual->resize(m + 1);
-    residual->head(m) = f_value_;
-    (*residual)(m) = direction_.dot(y - anchor_) - step_;
-    if (jacobian) {
-      jacobian->resize(m + 1, n + 1);
-      jacobian->topRows(m) = f_jacobian_;
-      jacobian->row(m) = direction_.transpose();
-    }
-    return true;
-  }
-
- private:
-  ParameterizedResidual* f_;
-  Eigen::VectorXd anchor_, direction_, f_value_;
-  Eigen::MatrixXd f_jacobian_;
-  double step_ = 0;
-};
-
-// The unit tangent of the branch at y, oriented along `previous`: the
-// solution of [F_x F_lambda; previous'] t = e_last (least squares when the
-// problem is overdetermined), normalised. false when it does not exist.
-bool Tangent(ParameterizedResidual& f, const Eigen::VectorXd& y, const Eigen::VectorXd& previous,
-             Eigen::VectorXd* tangent) {
-  const int n = f.n(), m = f.m();
-  Eigen::VectorXd F;
-  Eigen::MatrixXd J;
-  if (!f.Evaluate(y.head(n), y(n), &F, &J)) return false;
-  Eigen::MatrixXd A(m + 1, n + 1);
-  A.topRows(m) = J;
-  A.row(m) = previous.transpose();
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m + 1);
-  rhs(m) = 1;
-  const Eigen::VectorXd z = A.colPivHouseholderQr().solve(rhs);
-  const double norm = z.norm();
-  if (!std::isfinite(norm) || norm == 0) return false;
-  *tangent = z / norm;
-  return true;
-}
 
 class Tracer {
  public:
   Tracer(const ContinuationProblem& problem, const ContinuationOptions& options,
          ParameterizedResidual* f, const std::vector<Variable>& variables, ContinuationSummary* summary)
       : problem_(problem), options_(options), f_(*f), system_(f), variables_(variables),
-        summary_(*summary), start_(Clock::now()) {
+        summary_(*summary), stability_(problem, options, f->n()), start_(Clock::now()) {
     const double range = std::abs(problem.end - problem.start);
     direction_ = problem.end > problem.start ? 1 : -1;
     max_step_ = options.max_step > 0 ? options.max_step : range / 10;
@@ -258,9 +153,19 @@ class Tracer {
     corrector_.max_seconds = 0;
     corrector_.estimate_condition = false;
   }
+  // Into the summary: how stability was computed, and why not where not.
+  void Close() {
+    summary_.hill_points = stability_.hill_points();
+    summary_.monodromy_points = stability_.monodromy_points();
+    summary_.stability_seconds = stability_.seconds();
+    summary_.stability_cross_check = stability_.cross_check();
+    if (unknown_points_ > 0) summary_.stability_note = stability_.note();
+  }
 
   void Natural(const Eigen::VectorXd& x0);
   void PseudoArclength(const Eigen::VectorXd& x0);
+  // From a solution y0 = (x0, lambda0) along the direction t0 (branch switching).
+  void PseudoArclengthFrom(const Eigen::VectorXd& y0, const Eigen::VectorXd& t0);
 
  private:
   int n() const { return f_.n(); }
@@ -278,12 +183,8 @@ class Tracer {
     summary_.corrector_iterations += report->iterations;
     return report->converged();
   }
-  void Add(const Eigen::VectorXd& y, int iterations, double tangent_parameter, bool fold) {
-    if (!summary_.points.empty()) {
-      const ContinuationPoint& last = summary_.points.back();
-      arclength_ += std::hypot((y.head(n()) - last_y_.head(n())).norm(), y(n()) - last.parameter);
-    }
-    last_y_ = y;
+  // The point y = (x, lambda) as a solution, with its stability.
+  ContinuationPoint MakePoint(const Eigen::VectorXd& y, int iterations, double tangent_parameter, bool fold) {
     CollocationResidual* r = f_.At(y(n()));
     // Evaluated there by the corrector, or at the range's end within an ulp.
     if (!r) throw std::runtime_error("the model refuses a converged point: " + f_.refusal());
@@ -292,37 +193,62 @@ class Tracer {
     r->Unpack(y.head(n()), &coefficients, &w);
     Eigen::VectorXd F;
     r->Evaluate(y.head(n()), &F, nullptr);
-    summary_.points.push_back(ContinuationPoint{
-        y(n()), HarmonicSolution(f_.basis(), w, coefficients, variables_), F.lpNorm<Eigen::Infinity>(),
-        iterations, arclength_, tangent_parameter, fold, summary_.num_folds});
+    ContinuationPoint p(y(n()), HarmonicSolution(f_.basis(), w, coefficients, variables_));
+    p.residual = F.lpNorm<Eigen::Infinity>();
+    p.iterations = iterations;
+    p.tangent_parameter = tangent_parameter;
+    p.fold = fold;
+    if (options_.stability && !stability_.Classify(f_.ProblemAt(p.parameter), &p)) ++unknown_points_;
+    return p;
+  }
+  void Add(ContinuationPoint p, const Eigen::VectorXd& y) {
+    if (!summary_.points.empty())
+      arclength_ += std::hypot((y.head(n()) - last_y_.head(n())).norm(), y(n()) - summary_.points.back().parameter);
+    last_y_ = y;
+    p.arclength = arclength_;
+    p.folds_before = summary_.num_folds;
+    for (BifurcationPoint& b : pending_) {  // crossings that could not be located, marked here
+      b.point = static_cast<int>(summary_.points.size());
+      b.parameter = p.parameter;
+      p.bifurcation = static_cast<int>(summary_.bifurcations.size());
+      summary_.bifurcations.push_back(b);
+    }
+    pending_.clear();
+    summary_.points.push_back(std::move(p));
     summary_.arclength = arclength_;
-    if (options_.stability) Classify(&summary_.points.back());
   }
-  void Classify(ContinuationPoint* p) {
-    if (hill_refused_) return;
-    if (n() > options_.max_stability_unknowns) {
-      hill_refused_ = true;
-      summary_.stability_note = "not computed: " + std::to_string(n()) + " unknowns, over max_stability_unknowns = " +
-                                std::to_string(options_.max_stability_unknowns);
-      return;
-    }
-    try {
-      const HillStabilityReport hill = HillStability(f_.ProblemAt(p->parameter), p->solution, options_.hill);
-      const double margin = options_.hill.margin * p->solution.frequencies()[0];
-      p->max_real_part = hill.max_real_part;
-      p->stability = hill.stable                       ? PointStability::kStable
-                     : hill.max_real_part > margin     ? PointStability::kUnstable
-                                                       : PointStability::kNeutral;
-    } catch (const std::invalid_argument& e) {
-      // Outside the method's scope: the same for every point.
-      hill_refused_ = true;
-      summary_.stability_note = e.what();
-    } catch (const std::runtime_error& e) {
-      // QZ did not converge: likely so at the next points too, and costly.
-      summary_.stability_note = e.what();
-      hill_refused_ = ++hill_failures_ >= 2;
-    }
+  // The events of the step from y (point `before`) to the point `after`,
+  // located and added in arclength order; those beyond the range's end are
+  // dropped. `chord`: the predictor's direction, `condition` . (y' - y) = s
+  // the corrector's; `fold`: the tangent's parameter component changed sign.
+  void AddEvents(const ContinuationPoint& before, const ContinuationPoint& after, const Eigen::VectorXd& y,
+                 const Eigen::VectorXd& chord, const Eigen::VectorXd& condition, double ds, bool fold,
+                 double tangent_after);
+  // A sign change of a test function whose critical multiplier sits within
+  // the neutral band at both points is noise (a conservative orbit's
+  // multipliers all lie on the unit circle): not a crossing.
+  bool Decidable(BifurcationType type, const ContinuationPoint& before, const ContinuationPoint& after) const {
+    double g0 = 0, g1 = 0;
+    std::complex<double> mu;
+    return !CriticalMultiplier(before.multipliers, before.trivial_multiplier, type, &mu, &g0) ||
+           !CriticalMultiplier(after.multipliers, after.trivial_multiplier, type, &mu, &g1) ||
+           std::max(std::abs(g0), std::abs(g1)) > 10 * options_.neutral_band;
   }
+  std::optional<Event> LocateFold(const Eigen::VectorXd& y, const Eigen::VectorXd& t, double ds, double g_end);
+  std::optional<Event> LocateCrossing(BifurcationType type, const ContinuationPoint& before,
+                                      const ContinuationPoint& after, const Eigen::VectorXd& y,
+                                      const Eigen::VectorXd& chord, const Eigen::VectorXd& condition, double ds);
+  // False (with the status set) when stop_when says so.
+  bool GoOn() {
+    if (!problem_.stop_when) return true;
+    const std::string why = problem_.stop_when(summary_.points.back());
+    if (why.empty()) return true;
+    summary_.status = ContinuationStatus::kStopped;
+    summary_.message = why;
+    return false;
+  }
+  // The pseudo-arclength steps from the solution y with unit tangent t.
+  void ArclengthSteps(Eigen::VectorXd y, Eigen::VectorXd t);
   // False (with the status set) when the point or time budget is spent.
   bool WithinBudget() {
     if (static_cast<int>(summary_.points.size()) >= options_.max_points) {
@@ -358,7 +284,6 @@ class Tracer {
   void Grow(int iterations) {
     if (iterations <= options_.fast_iterations) step_ = std::min(step_ * options_.step_growth, max_step_);
   }
-  void LocateFold(const Eigen::VectorXd& y, const Eigen::VectorXd& t, double ds, double g_end);
 
   const ContinuationProblem& problem_;
   const ContinuationOptions& options_;
@@ -366,18 +291,22 @@ class Tracer {
   BorderedSystem system_;
   const std::vector<Variable>& variables_;
   ContinuationSummary& summary_;
+  BranchStability stability_;
   Clock::time_point start_;
   SolverOptions corrector_;
   double direction_ = 1, step_ = 0, max_step_ = 0, min_step_ = 0, arclength_ = 0;
-  bool hill_refused_ = false;
-  int hill_failures_ = 0;
+  int unknown_points_ = 0;
+  // The first point of a switched branch sits on the bifurcation: no
+  // crossing is counted from it.
+  bool skip_detection_ = false;
+  std::vector<BifurcationPoint> pending_;
   Eigen::VectorXd last_y_;
 };
 
 void Tracer::Natural(const Eigen::VectorXd& x0) {
   Eigen::VectorXd y(n() + 1), previous;
   y << x0, problem_.start;
-  Add(y, 0, direction_, false);
+  Add(MakePoint(y, 0, direction_, false), y);
   const Eigen::VectorXd e = ParameterDirection();
   while (direction_ * (problem_.end - y(n())) > 0) {
     if (!WithinBudget()) return;
@@ -394,28 +323,32 @@ void Tracer::Natural(const Eigen::VectorXd& x0) {
     }
     if (h == remaining) trial(n()) = problem_.end;  // exactly, not to round-off
     ++summary_.accepted_steps;
+    ContinuationPoint next = MakePoint(trial, report.iterations, direction_, false);
+    AddEvents(summary_.points.back(), next, y, (trial - y) / h, e, h, false, direction_);
+    Add(std::move(next), trial);
+    if (!GoOn()) return;
     previous = y;
     y = trial;
-    Add(y, report.iterations, direction_, false);
     Grow(report.iterations);
   }
   summary_.status = ContinuationStatus::kCompleted;
 }
 
-void Tracer::LocateFold(const Eigen::VectorXd& y, const Eigen::VectorXd& t, double ds, double g_end) {
+std::optional<Event> Tracer::LocateFold(const Eigen::VectorXd& y, const Eigen::VectorXd& t, double ds,
+                                        double g_end) {
   // Regula falsi (Illinois) on g(s) = d lambda/ds at the corrected point s
   // along the arc from y: g(0) and g(ds) have opposite signs.
   double a = 0, ga = t(n()), b = ds, gb = g_end;
   Eigen::VectorXd best;
-  double best_g = std::numeric_limits<double>::infinity();
-  int best_iterations = 0, side = 0;
-  for (int it = 0; it < 40; ++it) {
+  double best_g = std::numeric_limits<double>::infinity(), best_s = 0;
+  int best_iterations = 0, side = 0, iterations = 0;
+  for (; iterations < 40; ++iterations) {
     const double s = (a * gb - b * ga) / (gb - ga);
     Eigen::VectorXd trial = y + s * t, tangent;
     SolverSummary report;
-    if (!Correct(y, t, s, &trial, &report) || !Tangent(f_, trial, t, &tangent)) break;
+    if (!Correct(y, t, s, &trial, &report) || !BranchTangent(f_, trial, t, &tangent)) break;
     const double g = tangent(n());
-    if (std::abs(g) < std::abs(best_g)) best = trial, best_g = g, best_iterations = report.iterations;
+    if (std::abs(g) < std::abs(best_g)) best = trial, best_g = g, best_iterations = report.iterations, best_s = s;
     if (std::abs(g) <= options_.fold_tolerance || b - a <= 1e-14 * ds) break;
     if (g * gb > 0) {
       b = s, gb = g;
@@ -427,34 +360,179 @@ void Tracer::LocateFold(const Eigen::VectorXd& y, const Eigen::VectorXd& t, doub
       side = 1;
     }
   }
-  if (best.size()) Add(best, best_iterations, best_g, true);
+  if (!best.size()) return std::nullopt;
+  Event event{best_s, MakePoint(best, best_iterations, best_g, true), {}};
+  BifurcationPoint& fold = event.bifurcation;
+  fold.type = BifurcationType::kFold;
+  fold.parameter = best(n());
+  fold.distance = best_g;
+  fold.tolerance = options_.fold_tolerance;
+  fold.located = std::abs(best_g) <= options_.fold_tolerance;
+  fold.iterations = iterations;
+  fold.method = "tangent";
+  double distance = 0;
+  CriticalMultiplier(event.point.multipliers, event.point.trivial_multiplier, BifurcationType::kFold,
+                     &fold.multiplier, &distance);
+  return event;
+}
+
+std::optional<Event> Tracer::LocateCrossing(BifurcationType type, const ContinuationPoint& before,
+                                            const ContinuationPoint& after, const Eigen::VectorXd& y,
+                                            const Eigen::VectorXd& chord, const Eigen::VectorXd& condition,
+                                            double ds) {
+  auto sign = [type](const ContinuationPoint& p) {
+    const TestFunctionSigns s = TestSigns(p.multipliers, p.trivial_multiplier);
+    return type == BifurcationType::kPeriodDoubling ? s.minus : type == BifurcationType::kNeimarkSacker ? s.torus : s.plus;
+  };
+  auto distance = [type](const ContinuationPoint& p, double* g, std::complex<double>* mu) {
+    return CriticalMultiplier(p.multipliers, p.trivial_multiplier, type, mu, g);
+  };
+  // Bracket [a, b] in s kept by the test function's sign; inside it the
+  // secant of the critical multiplier's distance g when g changes sign
+  // across the bracket (Illinois), else bisection.
+  const int sign_a = sign(before);
+  double a = 0, b = ds, ga = 0, gb = 0, lambda_a = before.parameter, lambda_b = after.parameter;
+  std::complex<double> mu;
+  bool valid_a = distance(before, &ga, &mu), valid_b = distance(after, &gb, &mu);
+  double raw_a = ga, raw_b = gb;  // g at the bracket's ends, without Illinois' halving
+  std::optional<Event> best;
+  double best_g = std::numeric_limits<double>::infinity();
+  int side = 0, iterations = 0;
+  for (; iterations < 40; ++iterations) {
+    double s = 0.5 * (a + b);
+    if (valid_a && valid_b && ga * gb < 0) s = (a * gb - b * ga) / (gb - ga);
+    if (!(s > a && s < b)) s = 0.5 * (a + b);
+    Eigen::VectorXd trial = y + s * chord, tangent;
+    SolverSummary report;
+    if (!Correct(y, condition, s, &trial, &report)) break;
+    const double tangent_parameter = BranchTangent(f_, trial, chord, &tangent) ? tangent(n()) : chord(n());
+    ContinuationPoint p = MakePoint(trial, report.iterations, tangent_parameter, false);
+    if (p.stability_method == StabilityMethod::kNone) break;
+    double g = 0;
+    const bool valid = distance(p, &g, &mu);
+    const int sign_p = sign(p);
+    if (valid && std::abs(g) < std::abs(best_g)) {
+      best_g = g;
+      best = Event{s, p, {}};
+      best->bifurcation.multiplier = mu;
+    }
+    if (valid && std::abs(g) <= options_.bifurcation_tolerance) break;
+    if (sign_p == sign_a) {
+      a = s, ga = raw_a = g, valid_a = valid, lambda_a = p.parameter;
+      if (side == 1) gb /= 2;
+      side = 1;
+    } else {
+      b = s, gb = raw_b = g, valid_b = valid, lambda_b = p.parameter;
+      if (side == -1) ga /= 2;
+      side = -1;
+    }
+    if (b - a <= 1e-13 * ds) break;
+  }
+  // A psi_NS sign change without a complex pair on the circle is a neutral
+  // saddle (two real multipliers with product 1): no bifurcation.
+  if (best && type == BifurcationType::kNeimarkSacker && std::abs(best_g) > 1e-3) return std::nullopt;
+  if (!best) {
+    // The location failed from its first trial (the corrector, or no
+    // multipliers there): the crossing is reported at the step's end point,
+    // not located, with the whole step as its bracket.
+    best = Event{ds, after, {}};
+    best->at_step_end = true;
+    if (!distance(after, &best_g, &best->bifurcation.multiplier)) best_g = NAN;
+  }
+  BifurcationPoint& bif = best->bifurcation;
+  bif.type = type;
+  bif.parameter = best->point.parameter;
+  bif.distance = best_g;
+  bif.tolerance = options_.bifurcation_tolerance;
+  bif.located = std::abs(best_g) <= options_.bifurcation_tolerance;
+  bif.parameter_bracket = std::abs(lambda_b - lambda_a);
+  // |g| over the secant slope dg/dlambda across the last bracket.
+  if (valid_a && valid_b && raw_a != raw_b && lambda_a != lambda_b)
+    bif.parameter_error = std::abs(best_g * (lambda_b - lambda_a) / (raw_b - raw_a));
+  bif.iterations = iterations;
+  bif.method = ToString(best->point.stability_method);
+  if (type == BifurcationType::kNeimarkSacker)
+    bif.torus_frequency = best->point.solution.frequencies()[0] * std::arg(bif.multiplier) / (2 * M_PI);
+  return best;
+}
+
+void Tracer::AddEvents(const ContinuationPoint& before_ref, const ContinuationPoint& after, const Eigen::VectorXd& y,
+                       const Eigen::VectorXd& chord, const Eigen::VectorXd& condition, double ds, bool fold,
+                       double tangent_after) {
+  const ContinuationPoint before = before_ref;  // summary_.points grows below
+  std::vector<Event> events;
+  if (fold && options_.locate_folds)
+    if (auto e = LocateFold(y, chord, ds, tangent_after)) events.push_back(std::move(*e));
+  const bool compare = options_.detect_bifurcations && !skip_detection_ &&
+                       before.stability_method != StabilityMethod::kNone &&
+                       after.stability_method != StabilityMethod::kNone &&
+                       (before.trivial_multiplier < 0) == (after.trivial_multiplier < 0);
+  skip_detection_ = false;
+  if (compare) {
+    const TestFunctionSigns s0 = TestSigns(before.multipliers, before.trivial_multiplier);
+    const TestFunctionSigns s1 = TestSigns(after.multipliers, after.trivial_multiplier);
+    std::vector<BifurcationType> crossed;
+    // A fold moves a real multiplier through +1 too: not a branch point.
+    if (s0.plus != s1.plus && !fold) crossed.push_back(BifurcationType::kBranchPoint);
+    if (s0.minus != s1.minus) crossed.push_back(BifurcationType::kPeriodDoubling);
+    if (s0.torus != s1.torus) crossed.push_back(BifurcationType::kNeimarkSacker);
+    for (BifurcationType type : crossed)
+      if (Decidable(type, before, after))
+        if (auto e = LocateCrossing(type, before, after, y, chord, condition, ds)) events.push_back(std::move(*e));
+  }
+  std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.s < b.s; });
+  for (Event& e : events) {
+    if (e.at_step_end) {
+      pending_.push_back(e.bifurcation);
+      continue;
+    }
+    if (direction_ * (e.point.parameter - problem_.end) > 0) continue;  // beyond the range
+    const Eigen::VectorXd ye = f_.At(e.point.parameter)->Pack(e.point.solution.coefficients(),
+                                                              e.point.solution.frequencies());
+    Eigen::VectorXd y_event(n() + 1);
+    y_event << ye, e.point.parameter;
+    e.point.bifurcation = static_cast<int>(summary_.bifurcations.size());
+    e.bifurcation.point = static_cast<int>(summary_.points.size());
+    summary_.bifurcations.push_back(e.bifurcation);
+    Add(std::move(e.point), y_event);
+  }
 }
 
 void Tracer::PseudoArclength(const Eigen::VectorXd& x0) {
   Eigen::VectorXd y(n() + 1), t;
   y << x0, problem_.start;
-  if (!Tangent(f_, y, ParameterDirection(), &t)) {
-    Add(y, 0, 0, false);
+  if (!BranchTangent(f_, y, ParameterDirection(), &t)) {
+    Add(MakePoint(y, 0, 0, false), y);
     summary_.status = ContinuationStatus::kStepTooSmall;
     summary_.message = "no tangent at the start: the Jacobian [F_x F_lambda] is rank-deficient there";
     return;
   }
-  Add(y, 0, t(n()), false);
+  Add(MakePoint(y, 0, t(n()), false), y);
+  ArclengthSteps(y, t);
+}
+
+void Tracer::PseudoArclengthFrom(const Eigen::VectorXd& y0, const Eigen::VectorXd& t0) {
+  Add(MakePoint(y0, 0, t0(n()), false), y0);
+  skip_detection_ = true;
+  ArclengthSteps(y0, t0.normalized());
+}
+
+void Tracer::ArclengthSteps(Eigen::VectorXd y, Eigen::VectorXd t) {
   while (true) {
     if (!WithinBudget()) return;
     Eigen::VectorXd trial = y + step_ * t, tangent;
     SolverSummary report;
     const bool converged = Correct(y, t, step_, &trial, &report);
-    if (!converged || !Tangent(f_, trial, t, &tangent) || tangent.dot(t) < std::cos(options_.max_turn)) {
+    if (!converged || !BranchTangent(f_, trial, t, &tangent) || tangent.dot(t) < std::cos(options_.max_turn)) {
       if (!Shrink(y(n()) + step_ * t(n()), report, converged ? "the tangent turned too far" : "no convergence"))
         return;
       continue;
     }
     ++summary_.accepted_steps;
-    if (t(n()) * tangent(n()) < 0) {
-      if (options_.locate_folds) LocateFold(y, t, step_, tangent(n()));
-      ++summary_.num_folds;
-    }
+    const bool fold = t(n()) * tangent(n()) < 0;
+    ContinuationPoint next = MakePoint(trial, report.iterations, tangent(n()), false);
+    AddEvents(summary_.points.back(), next, y, t, t, step_, fold, tangent(n()));
+    if (fold) ++summary_.num_folds;
     const double lambda = trial(n());
     if (direction_ * (lambda - problem_.end) >= 0) {
       // Land exactly on the end, from the chord between the last two points.
@@ -464,14 +542,16 @@ void Tracer::PseudoArclength(const Eigen::VectorXd& x0) {
       if (Correct(anchor, ParameterDirection(), direction_ * problem_.end, &end, &report)) {
         end(n()) = problem_.end;
         Eigen::VectorXd t_end;
-        Add(end, report.iterations, Tangent(f_, end, tangent, &t_end) ? t_end(n()) : tangent(n()), false);
+        const double g = BranchTangent(f_, end, tangent, &t_end) ? t_end(n()) : tangent(n());
+        Add(MakePoint(end, report.iterations, g, false), end);
       } else {
-        Add(trial, report.iterations, tangent(n()), false);
+        Add(std::move(next), trial);
       }
       summary_.status = ContinuationStatus::kCompleted;
       return;
     }
-    Add(trial, report.iterations, tangent(n()), false);
+    Add(std::move(next), trial);
+    if (!GoOn()) return;
     if (direction_ * (lambda - problem_.start) < 0) {
       summary_.status = ContinuationStatus::kLeftRange;
       std::ostringstream msg;
@@ -486,17 +566,22 @@ void Tracer::PseudoArclength(const Eigen::VectorXd& x0) {
   }
 }
 
-}  // namespace
-
-ContinuationSummary TraceBranch(const ContinuationProblem& problem, const HarmonicSolution& guess,
-                                const ContinuationOptions& options) {
-  const auto start = Clock::now();
+void CheckArguments(const ContinuationProblem& problem, const ContinuationOptions& options) {
   if (std::string why = options.IsValid(); !why.empty())
     throw std::invalid_argument("invalid continuation options: " + why);
   if (!problem.build) throw std::invalid_argument("ContinuationProblem::build is empty");
   if (!std::isfinite(problem.start) || !std::isfinite(problem.end) || problem.start == problem.end)
     throw std::invalid_argument("the range of " + problem.parameter +
                                 " must be two different finite values");
+  if (problem.period_multiple < 1) throw std::invalid_argument("ContinuationProblem::period_multiple must be >= 1");
+}
+
+}  // namespace
+
+ContinuationSummary TraceBranch(const ContinuationProblem& problem, const HarmonicSolution& guess,
+                                const ContinuationOptions& options) {
+  const auto start = Clock::now();
+  CheckArguments(problem, options);
   ContinuationSummary summary;
   summary.method = options.method;
   summary.parameter = problem.parameter;
@@ -524,14 +609,49 @@ ContinuationSummary TraceBranch(const ContinuationProblem& problem, const Harmon
     summary.message = msg.str();
     return finish();
   }
-  ParameterizedResidual f(problem, MakeBasis(bases, options.harmonic_balance),
+  ParameterizedResidual f(problem.parameter, problem.build, problem.start, MakeBasis(bases, options.harmonic_balance),
                           bases == 1 ? Sampling::Uniform(solved.samples[0]) : Sampling::Torus(solved.samples));
   const Eigen::VectorXd x0 =
       f.At(problem.start)->Pack(solved.solution->coefficients(), solved.solution->frequencies());
   Tracer tracer(problem, options, &f, first.system.variables(), &summary);
   if (options.method == ContinuationMethod::kNatural) tracer.Natural(x0);
   else tracer.PseudoArclength(x0);
+  tracer.Close();
   return finish();
+}
+
+ContinuationSummary TraceBranchFrom(const ContinuationProblem& problem, double parameter,
+                                    const HarmonicSolution& start, const HarmonicSolution& direction,
+                                    const ContinuationOptions& options) {
+  const auto clock_start = Clock::now();
+  CheckArguments(problem, options);
+  if (direction.basis().harmonics() != start.basis().harmonics() ||
+      direction.coefficients().rows() != start.coefficients().rows())
+    throw std::invalid_argument("TraceBranchFrom: the direction must be on the start's basis and variables");
+  ContinuationSummary summary;
+  summary.method = ContinuationMethod::kPseudoArclength;
+  summary.parameter = problem.parameter;
+  summary.start = problem.start;
+  summary.end = problem.end;
+  const HarmonicBalanceProblem first = problem.build(parameter);
+  const HarmonicBasis& basis = start.basis();
+  std::vector<int> samples = options.harmonic_balance.samples;
+  if (samples.empty()) samples = SamplesForRule(first.system, basis, options.harmonic_balance.rule);
+  summary.order = basis.order();
+  summary.samples = samples;
+  ParameterizedResidual f(problem.parameter, problem.build, parameter, basis,
+                          basis.num_bases() == 1 ? Sampling::Uniform(samples[0]) : Sampling::Torus(samples));
+  CollocationResidual* r = f.At(parameter);
+  Eigen::VectorXd y0(f.n() + 1), t0(f.n() + 1);
+  y0 << r->Pack(start.coefficients(), start.frequencies()), parameter;
+  std::vector<double> no_shift(start.frequencies().size(), 0.0);
+  t0 << r->Pack(direction.coefficients(), no_shift), 0;
+  if (!(t0.norm() > 0)) throw std::invalid_argument("TraceBranchFrom: the direction is zero");
+  Tracer tracer(problem, options, &f, first.system.variables(), &summary);
+  tracer.PseudoArclengthFrom(y0, t0);
+  tracer.Close();
+  summary.seconds = std::chrono::duration<double>(Clock::now() - clock_start).count();
+  return summary;
 }
 
 }  // namespace rmhb

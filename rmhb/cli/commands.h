@@ -47,18 +47,28 @@ int RunRecast(const RecastArgs& args);
 
 // `rmhb solve <model> --continue NAME=a:b`: follow the branch of solutions
 // as a model parameter moves from a to b (rmhb/pipeline/branch.h) and print it:
-// parameter, frequency, amplitude, residual, stability, folds.
+// parameter, frequency, amplitude, residual, Floquet multipliers and
+// stability (Hill or the monodromy), folds, branch points, period doublings
+// and Neimark-Sacker points; with --switch-branches the period-2T branch
+// from every period doubling and the torus at every Neimark-Sacker point.
 struct ContinuationArgs {
   std::string range;     // "NAME=a:b"; empty: no continuation
   int steps = 20;        // first step = |b - a| / steps
   double max_step = 0;   // 0: |b - a| / 10
   bool natural = false;  // natural-parameter instead of pseudo-arclength
   bool no_stability = false;
+  std::string stability_method = "auto";  // auto, hill, monodromy
+  bool stability_method_given = false;
+  bool switch_branches = false;
   std::string plot_var;  // with --plot: a variable's amplitude (default the first) or "frequency"
 };
 
-// Adds --continue, --steps, --max-step, --natural, --no-stability and --plot-var to `solve`.
+// Adds --continue, --steps, --max-step, --natural, --no-stability,
+// --stability-method, --switch-branches and --plot-var to `solve`.
 void AddContinuationOptions(CLI::App* solve, ContinuationArgs* args);
+// Throws std::invalid_argument when an option only continuation uses is
+// given without --continue.
+void CheckWithoutContinuation(const ContinuationArgs& args);
 // Runs the continuation with the solve command's settings and output flags.
 int RunContinuation(const SolveArgs& solve, const ContinuationArgs& args);
 

@@ -44,8 +44,9 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
   app->add_option("--continue", a->range,
                   "Follow the branch as parameter NAME goes from a to b (NAME=a:b, any --set-able "
                   "parameter, e.g. w=0.5:3): prints parameter, frequency, amplitude max|x| of the "
-                  "first variable, residual and stability per point, and marks folds. --csv FILE "
-                  "writes the branch");
+                  "first variable, residual, stability and the largest Floquet multiplier per point, "
+                  "and marks folds, branch points (BP), period doublings (PD) and Neimark-Sacker "
+                  "points (NS), each located. --csv FILE writes the branch");
   app->add_option("--steps", a->steps,
                   "Continuation: first step |b - a| / K (default 20); the step then adapts")
       ->check(CLI::Range(1, 1000000));
@@ -60,11 +61,40 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
                   "Continuation with --plot: draw the amplitude max|VAR(t)| of this variable (default: the "
                   "first) or, with 'frequency', the first base frequency against the parameter");
   app->add_flag("--no-stability", a->no_stability,
-                "Continuation: skip Hill's method per point (one eigenproblem of the Jacobian's "
-                "size each; computed by default up to 200 unknowns)");
+                "Continuation: skip the Floquet multipliers per point (and so the bifurcations but folds)");
+  app->add_option("--stability-method", a->stability_method,
+                  "Continuation: auto (default: Hill's method up to 40 unknowns, else the monodromy of the "
+                  "original equations by CVODE/IDA; both at the first point, compared), hill or monodromy")
+      ->check(CLI::IsMember({"auto", "hill", "monodromy"}))
+      ->each([a](const std::string&) { a->stability_method_given = true; });
+  app->add_flag("--switch-branches", a->switch_branches,
+                "Continuation: from every period doubling follow the period-2T branch, and at every "
+                "Neimark-Sacker point solve the torus just past it (two bases: the forcing and "
+                "w2 = w arg(mu)/2pi), validated against CVODE");
+}
+
+void CheckWithoutContinuation(const ContinuationArgs& a) {
+  if (a.switch_branches) throw std::invalid_argument("--switch-branches needs --continue");
+  if (a.stability_method_given) throw std::invalid_argument("--stability-method needs --continue");
 }
 
 namespace {
+
+// Rows of one branch: `index` 0 the traced one, k the k-th period-2T branch.
+void CsvRows(const BranchSummary& b, const ContinuationSummary& c, const std::vector<BranchPointReport>& reports,
+             int index, std::ofstream& csv) {
+  for (size_t i = 0; i < c.points.size(); ++i) {
+    const ContinuationPoint& p = c.points[i];
+    const BranchPointReport& r = reports[i];
+    csv << p.parameter;
+    for (double v : p.solution.frequencies()) csv << "," << v;
+    csv << "," << r.peak << "," << p.residual << "," << (p.fold ? 1 : 0) << "," << r.stability;
+    if (b.validated) csv << "," << r.validation_error;
+    if (b.has_reference) csv << "," << r.frequency_error << "," << r.amplitude_error;
+    csv << "," << ToString(p.stability_method) << "," << p.max_multiplier << ","
+        << (p.bifurcation >= 0 ? ToString(c.bifurcations[p.bifurcation].type) : "") << "," << index << "\n";
+  }
+}
 
 void WriteCsv(const BranchSummary& b, const std::string& file) {
   std::ofstream csv(file);
@@ -73,17 +103,12 @@ void WriteCsv(const BranchSummary& b, const std::string& file) {
   csv << b.continuation.parameter;
   for (int i = 0; i < b.bases; ++i) csv << ",w" << i + 1;
   csv << ",amplitude,residual,fold,stability" << (b.validated ? ",validation_error" : "")
-      << (b.has_reference ? ",frequency_error,amplitude_error" : "") << "\n";
-  for (size_t i = 0; i < b.continuation.points.size(); ++i) {
-    const ContinuationPoint& p = b.continuation.points[i];
-    const BranchPointReport& r = b.reports[i];
-    csv << p.parameter;
-    for (double v : p.solution.frequencies()) csv << "," << v;
-    csv << "," << r.peak << "," << p.residual << "," << (p.fold ? 1 : 0) << "," << r.stability;
-    if (b.validated) csv << "," << r.validation_error;
-    if (b.has_reference) csv << "," << r.frequency_error << "," << r.amplitude_error;
-    csv << "\n";
-  }
+      << (b.has_reference ? ",frequency_error,amplitude_error" : "")
+      << ",stability_method,max_multiplier,bifurcation,branch\n";
+  CsvRows(b, b.continuation, b.reports, 0, csv);
+  int index = 0;
+  for (const DoubledBranchReport& d : b.doubled)
+    if (d.branch.branch) CsvRows(b, *d.branch.branch, d.reports, ++index, csv);
 }
 
 }  // namespace
@@ -97,6 +122,11 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   if (solve.stability && a.no_stability)
     throw std::invalid_argument("--stability and --no-stability contradict each other (continuation reports "
                                 "stability at every point by default)");
+  if (a.no_stability && (a.stability_method_given || a.switch_branches))
+    throw std::invalid_argument(std::string(a.switch_branches ? "--switch-branches" : "--stability-method") +
+                                " needs the stability that --no-stability turns off");
+  if (a.natural && a.switch_branches)
+    throw std::invalid_argument("--switch-branches follows the new branches by pseudo-arclength: drop --natural");
   const PreparedSolve prepared = Prepare(solve.settings, {{range.name, range.from}});
   ContinueOptions options;
   options.parameter = range.name;
@@ -107,6 +137,9 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   options.max_step = a.max_step;
   options.natural = a.natural;
   options.stability = !a.no_stability;
+  options.stability_method = ParseStabilityMethod(a.stability_method);
+  options.switch_branches = a.switch_branches;
+  options.validate_tolerance = solve.validate_tol;
   options.validate = solve.validate;
   options.validate_periods = solve.validate_periods;
   BranchSummary branch;
@@ -120,7 +153,13 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   std::string plot_data;
   if (!solve.plot.empty() && !summary.points.empty()) {
     const std::string var = a.plot_var.empty() ? summary.points[0].solution.variables()[0].name : a.plot_var;
-    const std::vector<plot::BranchRow> rows = plot::BranchRows(summary, var);
+    std::vector<plot::BranchRow> rows = plot::BranchRows(summary, var);
+    int index = 0;
+    for (const DoubledBranchReport& d : branch.doubled)
+      if (d.branch.branch) {
+        const std::vector<plot::BranchRow> more = plot::BranchRows(*d.branch.branch, var, ++index);
+        rows.insert(rows.end(), more.begin(), more.end());
+      }
     plot_data = solve.plot + ".dat";
     plot::WriteBranchData(rows, range.name, var, plot_data);
     plot::PlotBranch(rows, prepared.model.name + ": " + prepared.model.equation, range.name, var, solve.plot);
@@ -131,8 +170,9 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
     if (!solve.csv.empty()) out["csv"] = solve.csv;
     if (!plot_data.empty()) out["plot"] = solve.plot, out["plot_data"] = plot_data;
     std::cout << out.dump(1) << "\n";
-    return branch.status == BranchStatus::kStopped ? kExitNotConverged
-           : branch.status == BranchStatus::kNonPhysical ? kExitNonPhysical : kExitOk;
+    return branch.status == BranchStatus::kCompleted     ? kExitOk
+           : branch.status == BranchStatus::kNonPhysical ? kExitNonPhysical
+                                                         : kExitNotConverged;
   }
   // --quiet hides the table unless it holds what --validate or --stability asked for.
   std::printf("%s", branch.FullReport(!solve.quiet || solve.validate || solve.stability).c_str());
@@ -140,6 +180,10 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
     std::fprintf(stderr, "rmhb: NON-PHYSICAL point %s = %.15g: %s\n", range.name.c_str(),
                  summary.points[i].parameter, branch.reports[i].definitions->Report().c_str());
   if (branch.status == BranchStatus::kCompleted) return kExitOk;
+  if (branch.status == BranchStatus::kSwitchFailed) {
+    std::fprintf(stderr, "rmhb: %s\n", branch.message.c_str());
+    return kExitNotConverged;
+  }
   std::fprintf(stderr, "rmhb: continuation stopped: %s\n", summary.message.c_str());
   return branch.status == BranchStatus::kStopped ? kExitNotConverged : kExitNonPhysical;
 }

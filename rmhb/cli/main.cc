@@ -132,6 +132,7 @@ int main(int argc, char** argv) {
   if (*montecarlo_cmd)
     return RunOnEveryRank([&](int rank, int ranks) { return RunMonteCarlo(montecarlo, rank, ranks); }, argc, argv);
   try {
+    if (*solve_cmd && continuation.range.empty()) CheckWithoutContinuation(continuation);
     if (*solve_cmd) return continuation.range.empty() ? RunSolve(solve) : RunContinuation(solve, continuation);
     if (*list_cmd) return RunList(list_json);
     if (*recast_cmd) return RunRecast(recast);

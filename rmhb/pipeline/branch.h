@@ -7,9 +7,16 @@
 //   options.harmonic_balance = prepared.options;
 //   BranchSummary b = ContinueModel(model, prepared.guess, options);
 // The branch is traced by rmhb::TraceBranch (rmhb/continuation.h:
-// pseudo-arclength past folds, or natural-parameter steps), the model
-// rebuilt at every parameter value (WithParameters). Every point gets its
-// peak max|x(t)| of the first variable, its stability (Hill), its errors
+// pseudo-arclength past folds, or natural-parameter steps), from the first
+// point of the automatic start (SolveFromAnyStart: the guess, else a
+// simulated start), the model rebuilt at every parameter value
+// (WithParameters). Every point gets its peak max|x(t)| of the first
+// variable, its Floquet multipliers and stability (Hill's method where it is
+// small, else the monodromy of the original equations: rmhb/pipeline/
+// monodromy.h), the branch its located folds, branch points, period
+// doublings and Neimark-Sacker points; with switch_branches the period-2T
+// branch from every period doubling and the torus past every Neimark-Sacker
+// point (rmhb/branch_switching.h), validated against CVODE. Points get their errors
 // against the model's exact reference, its definition check (a recast's
 // auxiliaries against their definitions: physical or not), and on request
 // its validation error against the original equations (ValidateOriginal:
@@ -26,6 +33,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "integrators/trajectory_validation.h"
+#include "rmhb/branch_switching.h"
 #include "rmhb/continuation.h"
 #include "rmhb/definition_check.h"
 #include "rmhb/pipeline/model.h"
@@ -39,9 +48,17 @@ struct ContinueOptions {
   int steps = 20;         // first step |to - from| / steps; the step then adapts
   double max_step = 0;    // 0: |to - from| / 10, or the first step if larger
   bool natural = false;   // natural-parameter steps (stop at a fold) instead of pseudo-arclength
-  bool stability = true;  // Hill's method per point (ContinuationOptions::stability)
+  bool stability = true;  // Floquet multipliers per point (ContinuationOptions::stability)
+  StabilityMethod stability_method = StabilityMethod::kAuto;  // ContinuationOptions::stability_method
   bool validate = false;  // every point against the original equations
   int validate_periods = 1;  // of the slowest base
+  // From every period doubling the period-2T branch, at every
+  // Neimark-Sacker point the torus (validated over torus_periods periods of
+  // the forcing against validate_tolerance, relative to max|state|).
+  bool switch_branches = false;
+  TorusOptions torus;
+  double torus_periods = 20;
+  double validate_tolerance = 1e-8;
   std::string IsValid() const;  // empty when valid
 };
 
@@ -58,11 +75,29 @@ struct BranchPointReport {
 };
 
 enum class BranchStatus {
-  kCompleted,    // traced to the end of the range (or it left through its start)
-  kStopped,      // the trace stopped (continuation.status and message say why)
-  kNonPhysical,  // traced, but some points are non-physical (non_physical lists them)
+  kCompleted,     // traced to the end of the range (or it left through its start)
+  kStopped,       // the trace stopped (continuation.status and message say why)
+  kNonPhysical,   // traced, but some points are non-physical (non_physical lists them)
+  kSwitchFailed,  // traced, but a branch switch asked for failed (doubled/tori say which)
 };
-const char* ToString(BranchStatus status);  // "completed", "stopped", "non_physical"
+const char* ToString(BranchStatus status);  // "completed", "stopped", "non_physical", "switch_failed"
+
+// The period-2T branch from a period doubling, with its points' reports
+// (peak, stability, validation; no reference or definition check: those are
+// the period-T model's).
+struct DoubledBranchReport {
+  BifurcationPoint from;
+  DoubledBranch branch;  // not started when the message says it is another's end
+  std::vector<BranchPointReport> reports;
+};
+
+// The torus past a Neimark-Sacker point and its trajectory check.
+struct TorusReport {
+  TorusStart start;
+  std::optional<integrators::ValidationReport> validation;
+  std::optional<ValidationVerdict> verdict;
+  double periods = 0;  // of the forcing, validated over
+};
 
 struct BranchSummary {
   BranchStatus status = BranchStatus::kStopped;
@@ -73,11 +108,18 @@ struct BranchSummary {
   bool has_reference = false;  // the model has an exact frequency or amplitude
   bool validated = false;
   int bases = 1;
+  std::string start_route;  // of the first point (SolveFromAnyStart)
+  bool switched = false;    // switch_branches was asked for
+  std::vector<DoubledBranchReport> doubled;
+  std::vector<TorusReport> tori;
+  bool switch_failed() const;
 
   std::string BriefReport() const;  // the continuation's line
-  // The brief line, the message, why stability is unknown, and (with
-  // `table`) one row per point: parameter, frequencies, amplitude, residual,
-  // stability, [validation], [exact error], fold and NON-PHYSICAL marks.
+  // The brief line, the message, why stability is unknown, how the
+  // stability methods compared, the located bifurcations, and (with `table`)
+  // one row per point: parameter, frequencies, amplitude, residual,
+  // stability, its method and max|mu|, [validation], [exact error], fold,
+  // BP/PD/NS and NON-PHYSICAL marks; then the switched branches.
   std::string FullReport(bool table = true) const;
   // `rmhb solve --continue --json` without the command line's fields
   // (model, csv, plot).

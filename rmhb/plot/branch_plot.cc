@@ -27,10 +27,13 @@ const StabilityStyle& StyleOf(const std::string& stability) {
 
 }  // namespace
 
-std::vector<BranchRow> BranchRows(const ContinuationSummary& summary, const std::string& plot_var) {
+std::vector<BranchRow> BranchRows(const ContinuationSummary& summary, const std::string& plot_var, int branch) {
   std::vector<BranchRow> rows;
   for (const ContinuationPoint& p : summary.points) {
     BranchRow row{p.parameter, 0, ToString(p.stability), p.fold};
+    row.branch = branch;
+    if (p.fold) row.mark = "fold";
+    else if (p.bifurcation >= 0) row.mark = ShortName(summary.bifurcations[p.bifurcation].type);
     if (plot_var == "frequency") {
       row.value = p.solution.frequencies()[0];
     } else {
@@ -54,38 +57,46 @@ void WriteBranchData(const std::vector<BranchRow>& rows, const std::string& para
   std::ofstream out(file);
   if (!out) throw std::invalid_argument("--plot: cannot write '" + file + "'");
   out.precision(17);
-  out << "# " << parameter << " " << (plot_var == "frequency" ? "frequency" : "amplitude") << " stability fold\n";
-  for (const BranchRow& r : rows) out << r.parameter << " " << r.value << " " << r.stability << " " << r.fold << "\n";
+  out << "# " << parameter << " " << (plot_var == "frequency" ? "frequency" : "amplitude")
+      << " stability fold mark branch\n";
+  for (const BranchRow& r : rows)
+    out << r.parameter << " " << r.value << " " << r.stability << " " << r.fold << " " << r.mark << " " << r.branch
+        << "\n";
 }
 
 void PlotBranch(const std::vector<BranchRow>& rows, const std::string& title, const std::string& parameter,
                 const std::string& plot_var, const std::string& file) {
   const std::string y = plot_var == "frequency" ? "frequency w" : "max |" + plot_var + "(t)|";
-  PlotPanel panel{"branch: solid stable, dashed unstable, dotted neutral or unknown", parameter, y, false, false, {}};
-  // One series per run of equal stability; neighbours share their end point
-  // so the line has no gaps. One legend entry per kind.
+  PlotPanel panel{"branch: solid stable, dashed unstable, dotted neutral or unknown; period-2T branches in green",
+                  parameter, y, false, false, {}};
+  // One series per run of equal stability on one branch; neighbours share
+  // their end point so the line has no gaps. One legend entry per kind.
   std::vector<std::string> titled;
   for (size_t i = 0; i < rows.size();) {
     size_t j = i;
-    while (j + 1 < rows.size() && rows[j + 1].stability == rows[i].stability) ++j;
+    while (j + 1 < rows.size() && rows[j + 1].stability == rows[i].stability && rows[j + 1].branch == rows[i].branch) ++j;
     const StabilityStyle& style = StyleOf(rows[i].stability);
-    PlotSeries s{style.name, {}, {}, PlotSeries::Style::kLines, {}, style.dash, style.color};
-    s.in_key = std::find(titled.begin(), titled.end(), style.name) == titled.end();
-    if (s.in_key) titled.push_back(style.name);
-    for (size_t k = i; k <= std::min(j + 1, rows.size() - 1); ++k) s.x.push_back(rows[k].parameter), s.y.push_back(rows[k].value);
+    const std::string name = rows[i].branch == 0 ? style.name : std::string("period 2T, ") + style.name;
+    PlotSeries s{name, {}, {}, PlotSeries::Style::kLines, {}, style.dash, rows[i].branch == 0 ? style.color : "#2ca02c"};
+    s.in_key = std::find(titled.begin(), titled.end(), name) == titled.end();
+    if (s.in_key) titled.push_back(name);
+    const size_t last = j + 1 < rows.size() && rows[j + 1].branch == rows[i].branch ? j + 1 : j;
+    for (size_t k = i; k <= last; ++k) s.x.push_back(rows[k].parameter), s.y.push_back(rows[k].value);
     panel.series.push_back(s);
     i = j + 1;
   }
-  PlotSeries folds{"fold", {}, {}, PlotSeries::Style::kPoints, {}, 1, "#000000"};
-  for (const BranchRow& r : rows)
-    if (r.fold) {
-      folds.x.push_back(r.parameter);
-      folds.y.push_back(r.value);
-      char label[64];
-      std::snprintf(label, sizeof label, "fold %s = %.6g", parameter.c_str(), r.parameter);
-      folds.labels.push_back(label);
-    }
-  if (!folds.x.empty()) panel.series.push_back(folds);
+  for (const char* kind : {"fold", "BP", "PD", "NS"}) {
+    PlotSeries marks{kind, {}, {}, PlotSeries::Style::kPoints, {}, 1, "#000000"};
+    for (const BranchRow& r : rows)
+      if (r.mark == kind) {
+        marks.x.push_back(r.parameter);
+        marks.y.push_back(r.value);
+        char label[64];
+        std::snprintf(label, sizeof label, "%s %s = %.6g", kind, parameter.c_str(), r.parameter);
+        marks.labels.push_back(label);
+      }
+    if (!marks.x.empty()) panel.series.push_back(marks);
+  }
   WritePlot({title, {panel}}, file);
 }
 

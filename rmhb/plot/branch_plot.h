@@ -4,9 +4,11 @@
 // The frequency-response picture of `solve --continue ... --plot FILE`: a
 // value of each point (the amplitude max|x(t)| of a variable, or the first
 // base frequency) against the parameter; stable parts solid, unstable
-// dashed, neutral or unknown dotted; folds marked and labelled. The data
-// drawn go to FILE.dat as well (parameter, value, stability, fold), so a
-// script or a test can read exactly what the figure shows.
+// dashed, neutral or unknown dotted; folds, branch points (BP), period
+// doublings (PD) and Neimark-Sacker points (NS) marked and labelled; the
+// period-2T branches of --switch-branches drawn alongside. The data drawn go
+// to FILE.dat as well (parameter, value, stability, fold, mark, branch), so
+// a script or a test can read exactly what the figure shows.
 
 #include <string>
 #include <vector>
@@ -19,11 +21,13 @@ struct BranchRow {
   double parameter = 0, value = 0;
   std::string stability;  // stable, unstable, neutral, unknown
   bool fold = false;
+  std::string mark = "-";  // fold, BP, PD, NS, or "-"
+  int branch = 0;          // 0: the branch traced; k: the k-th period-2T branch
 };
 
 // What is plotted of a point: "frequency" or a variable's name (its
 // amplitude). Throws std::invalid_argument naming the variables otherwise.
-std::vector<BranchRow> BranchRows(const ContinuationSummary& summary, const std::string& plot_var);
+std::vector<BranchRow> BranchRows(const ContinuationSummary& summary, const std::string& plot_var, int branch = 0);
 
 // FILE.dat: a header line, then one row per point.
 void WriteBranchData(const std::vector<BranchRow>& rows, const std::string& parameter, const std::string& plot_var,

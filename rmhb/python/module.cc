@@ -9,6 +9,7 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/complex.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -157,6 +158,8 @@ struct Branch {
   py::array_t<bool> stable;
   std::vector<std::string> stability;  // stable, unstable, neutral, unknown
   std::string status, message;
+  std::vector<std::string> stability_method;  // hill, monodromy or none, per point
+  py::list bifurcations;  // located folds, branch points, period doublings, Neimark-Sacker points
 };
 
 struct Identification {
@@ -233,8 +236,21 @@ class Model {
       flags(static_cast<py::ssize_t>(i)) = p.stability == PointStability::kStable;
       if (p.fold) folds.push_back(p.parameter);
     }
+    std::vector<std::string> methods;
+    for (const ContinuationPoint& p : summary.points) methods.push_back(ToString(p.stability_method));
+    py::list bifurcations;
+    for (const BifurcationPoint& b : summary.bifurcations) {
+      py::dict d;
+      d["type"] = ToString(b.type);
+      d["parameter"] = b.parameter;
+      d["multiplier"] = b.multiplier;
+      d["located"] = b.located;
+      d["method"] = b.method;
+      if (b.type == BifurcationType::kNeimarkSacker) d["torus_frequency"] = b.torus_frequency;
+      bifurcations.append(d);
+    }
     return Branch{ToArray(lambda), ToArray(frequency), ToArray(amplitude), ToArray(folds), stable, stability,
-                  ToString(summary.status), summary.message};
+                  ToString(summary.status), summary.message, methods, bifurcations};
   }
 
   py::dict Simulate(double t_end, double dt) const {
@@ -346,7 +362,9 @@ PYBIND11_MODULE(rmhb, m) {
       .def_readonly("stability", &Branch::stability)
       .def_readonly("folds", &Branch::folds)
       .def_readonly("status", &Branch::status)
-      .def_readonly("message", &Branch::message);
+      .def_readonly("message", &Branch::message)
+      .def_readonly("stability_method", &Branch::stability_method)
+      .def_readonly("bifurcations", &Branch::bifurcations);
 
   py::class_<Identification>(m, "Identification")
       .def_readonly("bases", &Identification::bases)

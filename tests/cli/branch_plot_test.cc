@@ -21,6 +21,8 @@ struct Row {
   double parameter, value;
   std::string stability;
   int fold;
+  std::string mark;
+  int branch;
 };
 
 std::vector<Row> ReadData(const std::string& file) {
@@ -28,7 +30,7 @@ std::vector<Row> ReadData(const std::string& file) {
   std::vector<Row> rows;
   std::string line;
   std::getline(in, line);  // header
-  for (Row r; in >> r.parameter >> r.value >> r.stability >> r.fold;) rows.push_back(r);
+  for (Row r; in >> r.parameter >> r.value >> r.stability >> r.fold >> r.mark >> r.branch;) rows.push_back(r);
   return rows;
 }
 

@@ -64,7 +64,9 @@ TEST(CliContinuation, RelativisticSweepAgainstTheExactReference) {
   std::ifstream in(csv);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "beta,w1,amplitude,residual,fold,stability,frequency_error,amplitude_error");
+  EXPECT_EQ(line,
+            "beta,w1,amplitude,residual,fold,stability,frequency_error,amplitude_error,stability_method,"
+            "max_multiplier,bifurcation,branch");
   int rows = 0;
   while (std::getline(in, line)) ++rows;
   EXPECT_EQ(rows, static_cast<int>(j["branch"].size()));

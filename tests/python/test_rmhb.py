@@ -81,6 +81,17 @@ def test_continuation_gives_numpy_columns_and_the_folds():
     assert len(b.folds) == 2 and (~b.stable).sum() > 3
 
 
+def test_continuation_reports_the_bifurcations_like_the_cli():
+    model = "tests/pipeline/models/quadratic-duffing.yaml"
+    b = rmhb.Model(model).continuation("w", 2.5, 1.5, order=12)
+    assert b.status == "completed" and "none" not in b.stability_method
+    ref = cli_json("solve", model, "--order", "12", "--continue", "w=2.5:1.5")
+    assert [d["type"] for d in b.bifurcations] == ["period_doubling"] * 2
+    for mine, cli in zip(b.bifurcations, ref["bifurcations"]):
+        assert mine["parameter"] == pytest.approx(cli["parameter"], rel=1e-12)
+        assert mine["located"] and abs(mine["multiplier"] + 1) < 1e-8
+
+
 def test_analyze_and_simulate():
     a = rmhb.Model("vanderpol").analyze(order=40)
     assert a.ok and a.status == "converged" and a.validation_error < 1e-8  # over 20 periods

@@ -239,7 +239,8 @@ TEST(Continuation, QuasiPeriodicBranchOnTheTorusEndsOnTheDirectSolve) {
   const ContinuationSummary s = TraceBranch(problem, start.guess, options);
   ASSERT_TRUE(s.completed()) << s.FullReport();
   EXPECT_GE(s.points.size(), 5u);
-  EXPECT_EQ(s.stability_note, "Hill's method: periodic solutions only (one base frequency)");
+  EXPECT_EQ(s.stability_note,
+            "quasi-periodic solutions have no period: neither Hill's method nor a monodromy matrix applies");
   for (const ContinuationPoint& p : s.points) {
     EXPECT_EQ(p.solution.frequencies(), (std::vector<double>{0.7, 1.1}));
     EXPECT_LT(p.residual, 1e-13);

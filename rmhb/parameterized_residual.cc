@@ -1,0 +1,99 @@
+#include "rmhb/parameterized_residual.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace rmhb {
+
+ParameterizedResidual::ParameterizedResidual(std::string parameter, Build build, double first,
+                                             HarmonicBasis basis, Sampling sampling)
+    : parameter_(std::move(parameter)), build_(std::move(build)), basis_(std::move(basis)),
+      sampling_(std::move(sampling)) {
+  CollocationResidual* r = At(first);
+  if (!r)
+    throw std::invalid_argument("cannot build the problem at " + parameter_ + " = " + std::to_string(first) +
+                                ": " + refusal_);
+  n_ = r->num_unknowns();
+  m_ = r->num_residuals();
+}
+
+bool ParameterizedResidual::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* F,
+                                     Eigen::MatrixXd* jacobian) {
+  CollocationResidual* r = At(lambda);
+  if (!r || !r->Evaluate(x, F, jacobian ? &jx_ : nullptr)) return false;
+  if (!jacobian) return true;
+  jacobian->resize(m_, n_ + 1);
+  jacobian->leftCols(n_) = jx_;
+  // Forward difference; backward where the model refuses lambda + h (the
+  // edge of its domain, e.g. beta -> 1), which is then no refusal.
+  const std::string refusal = refusal_;
+  for (double h : {1e-7 * (1 + std::abs(lambda)), -1e-7 * (1 + std::abs(lambda))}) {
+    CollocationResidual* shifted = Get(&neighbour_, lambda + h);
+    if (shifted && shifted->Evaluate(x, &shifted_f_, nullptr)) {
+      jacobian->col(n_) = (shifted_f_ - *F) / h;
+      refusal_ = refusal;
+      return jacobian->allFinite();
+    }
+  }
+  return false;
+}
+
+CollocationResidual* ParameterizedResidual::Get(Built* b, double lambda) {
+  if (b->lambda == lambda) return b->residual.get();
+  b->residual.reset();
+  b->problem.reset();
+  b->lambda = lambda;
+  try {
+    b->problem = std::make_unique<HarmonicBalanceProblem>(build_(lambda));
+    b->residual = std::make_unique<CollocationResidual>(*b->problem, basis_, sampling_);
+  } catch (const std::exception& e) {
+    // A value outside the model's domain: this step fails, the trace goes on.
+    std::ostringstream why;
+    why << "at " << parameter_ << " = " << lambda << ": " << e.what();
+    refusal_ = why.str();
+    b->residual.reset();
+    return nullptr;
+  }
+  if (n_ >= 0 && (b->residual->num_unknowns() != n_ || b->residual->num_residuals() != m_))
+    throw std::invalid_argument("the problem's structure changes with " + parameter_ + " (at " +
+                                std::to_string(lambda) + ": " + std::to_string(b->residual->num_unknowns()) +
+                                " unknowns, " + std::to_string(b->residual->num_residuals()) +
+                                " residuals; at the start " + std::to_string(n_) + ", " + std::to_string(m_) + ")");
+  return b->residual.get();
+}
+
+bool BorderedSystem::Evaluate(const Eigen::VectorXd& y, Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian) {
+  const int n = f_->n(), m = f_->m();
+  if (!f_->Evaluate(y.head(n), y(n), &f_value_, jacobian ? &f_jacobian_ : nullptr)) return false;
+  residual->resize(m + 1);
+  residual->head(m) = f_value_;
+  (*residual)(m) = direction_.dot(y - anchor_) - step_;
+  if (jacobian) {
+    jacobian->resize(m + 1, n + 1);
+    jacobian->topRows(m) = f_jacobian_;
+    jacobian->row(m) = direction_.transpose();
+  }
+  return true;
+}
+
+bool BranchTangent(ParameterizedResidual& f, const Eigen::VectorXd& y, const Eigen::VectorXd& previous,
+                   Eigen::VectorXd* tangent) {
+  const int n = f.n(), m = f.m();
+  Eigen::VectorXd F;
+  Eigen::MatrixXd J;
+  if (!f.Evaluate(y.head(n), y(n), &F, &J)) return false;
+  Eigen::MatrixXd A(m + 1, n + 1);
+  A.topRows(m) = J;
+  A.row(m) = previous.transpose();
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m + 1);
+  rhs(m) = 1;
+  const Eigen::VectorXd z = A.colPivHouseholderQr().solve(rhs);
+  const double norm = z.norm();
+  if (!std::isfinite(norm) || norm == 0) return false;
+  *tangent = z / norm;
+  return true;
+}
+
+}  // namespace rmhb

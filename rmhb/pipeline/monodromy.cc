@@ -1,0 +1,146 @@
+#include "rmhb/pipeline/monodromy.h"
+
+#include <cmath>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+
+#include "integrators/dae_floquet.h"
+#include "integrators/floquet.h"
+
+namespace rmhb {
+namespace {
+
+// Models by parameter value, the most recent first (a handful: the
+// corrector's value and its finite-difference neighbour, the point's).
+class ModelCache {
+ public:
+  explicit ModelCache(std::function<Model(double)> model_at) : model_at_(std::move(model_at)) {}
+  std::shared_ptr<const Model> At(double value) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [v, m] : models_)
+      if (v == value) return m;
+    auto model = std::make_shared<const Model>(model_at_(value));
+    models_.emplace_front(value, model);
+    if (models_.size() > 4) models_.pop_back();
+    return model;
+  }
+
+ private:
+  std::function<Model(double)> model_at_;
+  std::deque<std::pair<double, std::shared_ptr<const Model>>> models_;
+  std::mutex mutex_;
+};
+
+// An autonomous orbit's monodromy M maps the flow direction f at the start
+// onto itself (M f = f). In the basis [f/|f|, Q], Q an orthonormal
+// complement, M = [1 a'; 0 Q' M Q]: the non-trivial multipliers are the
+// eigenvalues of Q' M Q. Taking them there, not from M, matters for a
+// conservative orbit, whose second multiplier 1 forms a Jordan block with
+// the trivial one: an O(e) error of M splits that pair by O(sqrt(e)) (1e-5 at
+// rtol 1e-10: "unstable"), while Q' M Q keeps it at 1 + O(e).
+void DeflateTrivial(const Eigen::MatrixXd& M, const Eigen::VectorXd& flow, MonodromyResult* result) {
+  const int n = static_cast<int>(M.rows());
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(flow.normalized());
+  const Eigen::MatrixXd basis = qr.householderQ();
+  const Eigen::MatrixXd Q = basis.rightCols(n - 1);
+  const Eigen::VectorXd along = basis.col(0);
+  result->multipliers.clear();
+  result->multipliers.push_back(along.dot(M * along));
+  result->trivial = 0;
+  if (n > 1) {
+    const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(Q.transpose() * M * Q, false).eigenvalues();
+    result->multipliers.insert(result->multipliers.end(), mu.data(), mu.data() + mu.size());
+  }
+}
+
+// d/dt of the original state along the solution at t = 0.
+Eigen::VectorXd Flow(const Model& model, const HarmonicSolution& solution) {
+  const double h = 1e-5 * 2 * M_PI / solution.frequencies()[0];
+  return (model.state(solution, h) - model.state(solution, -h)) / (2 * h);
+}
+
+}  // namespace
+
+std::string ModelMonodromyOptions::IsValid() const {
+  if (!(relative_tolerance > 0) || !(absolute_tolerance > 0) || !std::isfinite(relative_tolerance) ||
+      !std::isfinite(absolute_tolerance))
+    return "the monodromy's tolerances must be finite and > 0";
+  return "";
+}
+
+MonodromyResult ModelMonodromy(const Model& model, const HarmonicSolution& solution, int period_multiple,
+                               const ModelMonodromyOptions& options) {
+  if (const std::string why = options.IsValid(); !why.empty()) throw std::invalid_argument(why);
+  if (solution.frequencies().size() != 1)
+    throw std::invalid_argument("monodromy: a quasi-periodic solution has no period");
+  if (period_multiple < 1) throw std::invalid_argument("monodromy: period_multiple must be >= 1");
+  MonodromyResult result;
+  if (!model.original && !model.original_dae) {
+    result.message = "no original equations: " + model.original_error;
+    return result;
+  }
+  const double w = solution.frequencies()[0];
+  const std::vector<double> bases(model.problem.frequencies.size(), w * period_multiple);
+  integrators::FloquetOptions floquet;
+  floquet.autonomous = model.problem.num_unknown_frequencies() > 0;
+  floquet.integrator.relative_tolerance = options.relative_tolerance;
+  floquet.integrator.absolute_tolerance = options.absolute_tolerance;
+  if (model.stiff) floquet.integrator.method = integrators::IntegratorOptions::Method::kBdf;
+  const Eigen::VectorXd y0 = model.state(solution, 0.0);
+  const integrators::FloquetReport r =
+      model.original_dae ? integrators::DaeFloquetMultipliers(model.original_dae(bases), y0, 0.0, 2 * M_PI / w, floquet)
+                         : integrators::FloquetMultipliers(model.original(bases), y0, 0.0, 2 * M_PI / w, floquet);
+  result.ok = r.ok;
+  result.message = r.message;
+  result.multipliers = r.multipliers;
+  result.trivial = r.trivial;
+  if (r.ok && floquet.autonomous) {
+    Eigen::VectorXd flow = Flow(model, solution);
+    if (model.original_dae) {  // the monodromy acts on the differential components
+      const std::vector<bool> differential = model.original_dae(bases).differential;
+      std::vector<double> kept;
+      for (int i = 0; i < flow.size(); ++i)
+        if (differential.empty() || differential[i]) kept.push_back(flow(i));
+      flow = Eigen::Map<const Eigen::VectorXd>(kept.data(), static_cast<long>(kept.size()));
+    }
+    if (flow.size() == r.monodromy.rows() && flow.norm() > 0) DeflateTrivial(r.monodromy, flow, &result);
+  }
+  result.integrator = OriginalIntegrator(model);
+  result.seconds = r.seconds;
+  return result;
+}
+
+ContinuationProblem ModelContinuationProblem(std::function<Model(double)> model_at, std::string parameter,
+                                             double start, double end, const ModelMonodromyOptions& options) {
+  if (const std::string why = options.IsValid(); !why.empty()) throw std::invalid_argument(why);
+  auto cache = std::make_shared<ModelCache>(std::move(model_at));
+  ContinuationProblem problem;
+  problem.parameter = std::move(parameter);
+  problem.start = start;
+  problem.end = end;
+  problem.build = [cache](double value) { return cache->At(value)->problem; };
+  problem.monodromy = [cache, options](double value, const HarmonicSolution& solution, int period_multiple) {
+    return ModelMonodromy(*cache->At(value), solution, period_multiple, options);
+  };
+  return problem;
+}
+
+integrators::ValidationReport ValidateTorus(const Model& model, const HarmonicSolution& torus, double t_end,
+                                            int samples) {
+  if (!model.original && !model.original_dae)
+    throw std::invalid_argument("cannot integrate the model: " + model.original_error);
+  if (torus.frequencies().size() != model.problem.frequencies.size() + 1)
+    throw std::invalid_argument("ValidateTorus: the torus must have one base more than the model");
+  const std::vector<double> w(torus.frequencies().begin(), torus.frequencies().end() - 1);
+  auto claimed = [&](double t) { return model.state(torus, t); };
+  return model.original_dae ? integrators::ValidateDaeTrajectory(model.original_dae(w), claimed, t_end, samples)
+                            : integrators::ValidateTrajectory(model.original(w), claimed, t_end, model.stiff, samples);
+}
+
+}  // namespace rmhb

@@ -1,0 +1,172 @@
+// Stability along a branch and its bifurcations, on demand:
+//   build/tests/benchmarks/bifurcation_benchmark [stability|nlvib|all]
+// - stability: the cost per point of Hill's method (QZ on the harmonic
+//   balance Jacobian) and of the CVODE monodromy of the original equations
+//   against the number of unknowns (the quadratic oscillator of the tests at
+//   N = 10 ... 80, chains of 2 ... 8 forced cubic oscillators at N = 25),
+//   and how far their multipliers are apart at the first point.
+// - nlvib: NLvib's example 03 with its unilateral spring smoothed by tanh
+//   (tests/benchmarks/models/unilateral-smooth.yaml, N = 30), Omega from 0.8
+//   down to 0.5: the bifurcations located by continuation against the
+//   brute-force shooting reference, every point against a CVODE trajectory,
+//   the period-2T branch from the period doubling and the torus past the
+//   Neimark-Sacker point, each validated against CVODE.
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "rmhb/branch_switching.h"
+#include "rmhb/pipeline/monodromy.h"
+#include "tests/pipeline/shooting.h"
+
+using namespace rmhb;
+
+namespace {
+
+double Since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A chain of `n` cubic oscillators, the first forced: a model file a user
+// would write, in a temporary folder.
+std::string ChainModel(int n) {
+  const std::string file = (std::filesystem::temp_directory_path() / ("rmhb-chain-" + std::to_string(n) + ".yaml")).string();
+  std::ofstream out(file);
+  out << "name: chain" << n << "\nvariables: [";
+  for (int i = 1; i <= n; ++i) out << (i > 1 ? ", " : "") << "x" << i;
+  out << "]\nparameters: {W: 0.5}\nequations:\n";
+  for (int i = 1; i <= n; ++i) {
+    out << "  - \"x" << i << "'' + 0.05*x" << i << "' + 2*x" << i << " + 0.5*x" << i << "^3";
+    if (i > 1) out << " - x" << i - 1;
+    if (i < n) out << " - x" << i + 1;
+    out << " = " << (i == 1 ? "0.2*cos(W*t)" : "0") << "\"\n";
+  }
+  out << "frequencies: [W]\n";
+  return file;
+}
+
+// One short trace with the given method; per-point stability cost.
+void Row(const char* label, const std::string& file, const std::string& parameter, double from, double to,
+         int order) {
+  const Model model = LoadModel(file, {{parameter, from}});
+  const ContinuationProblem problem = ModelContinuationProblem(
+      [file, parameter](double v) { return LoadModel(file, {{parameter, v}}); }, parameter, from, to);
+  double per_point[2] = {NAN, NAN};
+  int unknowns = 0;
+  std::string cross;
+  for (int m = 0; m < 2; ++m) {
+    ContinuationOptions options;
+    options.harmonic_balance.order = order;
+    options.max_points = 6;
+    options.stability_method = m == 0 ? StabilityMethod::kHill : StabilityMethod::kMonodromy;
+    options.max_hill_unknowns = 1 << 30;
+    if (m == 0) {  // Hill's QZ beyond ~1500 unknowns takes minutes per point
+      const HarmonicBasis basis = HarmonicBasis::Periodic(order);
+      unknowns = model.problem.system.num_variables() * basis.num_coefficients();
+      if (unknowns > 1500) continue;
+    }
+    const ContinuationSummary s = TraceBranch(problem, GuessAtOrder(model, order), options);
+    per_point[m] = s.stability_seconds / std::max(1, s.hill_points + s.monodromy_points);
+  }
+  ContinuationOptions both;
+  both.harmonic_balance.order = order;
+  both.max_points = 2;
+  both.max_cross_check_unknowns = 1500;
+  const ContinuationSummary c = TraceBranch(problem, GuessAtOrder(model, order), both);
+  std::printf("%-28s %4d %9d %14.2f %16.2f   %s\n", label, order, unknowns, 1e3 * per_point[0], 1e3 * per_point[1],
+              c.stability_cross_check.c_str());
+}
+
+void StabilityCost() {
+  std::printf("stability per point: Hill's QZ against the CVODE monodromy (rtol 1e-10)\n");
+  std::printf("%-28s %4s %9s %14s %16s   %s\n", "model", "N", "unknowns", "Hill ms/point", "monodromy ms/pt",
+              "first point, both");
+  const std::string quadratic = std::string(RMHB_SOURCE_DIR) + "/tests/pipeline/models/quadratic-duffing.yaml";
+  for (int order : {10, 20, 40, 80}) Row("quadratic oscillator (1 DOF)", quadratic, "w", 2.5, 2.3, order);
+  for (int n : {2, 4, 8}) {
+    const std::string label = "cubic chain, " + std::to_string(n) + " DOF";
+    Row(label.c_str(), ChainModel(n), "W", 0.5, 0.55, 25);
+  }
+}
+
+void NlvibExample03() {
+  const std::string file = std::string(RMHB_SOURCE_DIR) + "/tests/benchmarks/models/unilateral-smooth.yaml";
+  const int order = 30;
+  const Model model = LoadModel(file, {{"W", 0.8}});
+  const ContinuationProblem problem =
+      ModelContinuationProblem([file](double W) { return LoadModel(file, {{"W", W}}); }, "W", 0.8, 0.5);
+  ContinuationOptions options;
+  options.harmonic_balance.order = order;
+  auto start = std::chrono::steady_clock::now();
+  const ContinuationSummary s = TraceBranch(problem, GuessAtOrder(model, order), options);
+  const double seconds = Since(start);
+  std::printf("\nNLvib example 03, unilateral spring smoothed by tanh (s = 5), N = %d, Omega 0.8 -> 0.5\n%s\n", order,
+              s.BriefReport().c_str());
+  std::printf("trace %.2f s, stability %.2f s (%d Hill, %d monodromy)\n", seconds, s.stability_seconds, s.hill_points,
+              s.monodromy_points);
+  // Every point against CVODE over one period.
+  double worst = 0;
+  for (const ContinuationPoint& p : s.points) {
+    const Model here = LoadModel(file, {{"W", p.parameter}});
+    const double T = 2 * M_PI / p.parameter;
+    const integrators::ValidationReport v = ValidateOriginal(here, p.solution, T, 201);
+    worst = std::max(worst, v.ok ? JudgeValidation(here, p.solution, v, T, 1).relative_error : HUGE_VAL);
+  }
+  std::printf("every point against CVODE (Adams, rtol 1e-13) over a period: max relative error %.1e\n", worst);
+  // The bifurcations against the shooting reference.
+  Eigen::VectorXd y = model.state(s.points.front().solution, 0.0);
+  for (const BifurcationPoint& b : s.bifurcations) {
+    std::printf("  %s\n", b.Describe("W").c_str());
+    if (b.type != BifurcationType::kPeriodDoubling && b.type != BifurcationType::kNeimarkSacker) continue;
+    const bool pd = b.type == BifurcationType::kPeriodDoubling;
+    const Model at = LoadModel(file, {{"W", b.parameter}});
+    y = at.state(s.points[b.point].solution, 0.0);
+    const double reference = testing::ReferenceCrossing(at, b.parameter - 1e-4, b.parameter + 1e-4, pd, &y);
+    std::printf("    shooting reference W = %.12f: error %.1e\n", reference, b.parameter - reference);
+  }
+  for (const BifurcationPoint& b : s.bifurcations) {
+    if (b.type == BifurcationType::kPeriodDoubling) {
+      start = std::chrono::steady_clock::now();
+      const DoubledBranch d = TraceDoubledBranch(problem, s, b, options);
+      std::printf("period-2T branch from W = %.10f (%.2f s): %s\n", b.parameter, Since(start), d.message.c_str());
+      if (!d.branch) continue;
+      double doubled = 0;
+      for (const ContinuationPoint& p : d.branch->points) {
+        const Model here = LoadModel(file, {{"W", p.parameter}});
+        const double T = 2 * 2 * M_PI / p.parameter;
+        auto claimed = [&](double t) { return here.state(p.solution, t); };
+        const integrators::ValidationReport v =
+            integrators::ValidateTrajectory(here.original({p.parameter}), claimed, T, false, 201);
+        doubled = std::max(doubled, v.ok ? v.max_error : HUGE_VAL);
+      }
+      std::printf("  every point against CVODE over 2T: max error %.1e\n", doubled);
+    }
+    if (b.type == BifurcationType::kNeimarkSacker)
+      for (int order_new : {4, 8, 12}) {
+        TorusOptions torus;
+        torus.order_new = order_new;
+        start = std::chrono::steady_clock::now();
+        const TorusStart t = TorusFromNeimarkSacker(problem, s, b, options, torus);
+        std::printf("|l| <= %d: %s (%.2f s)\n", order_new, t.BriefReport().c_str(), Since(start));
+        if (!t.solved) continue;
+        const Model here = LoadModel(file, {{"W", t.parameter}});
+        const double t_end = 20 * 2 * M_PI / t.parameter;
+        const integrators::ValidationReport v = ValidateTorus(here, *t.torus, t_end);
+        std::printf("  torus against CVODE over 20 periods: %s\n",
+                    JudgeValidation(here, *t.torus, v, t_end, 1e-6).Describe().c_str());
+      }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string what = argc > 1 ? argv[1] : "all";
+  if (what == "stability" || what == "all") StabilityCost();
+  if (what == "nlvib" || what == "all") NlvibExample03();
+  return 0;
+}
