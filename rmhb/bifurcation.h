@@ -43,6 +43,22 @@ const char* ShortName(BifurcationType type);
 
 using Multipliers = std::vector<std::complex<double>>;
 
+// The Floquet multipliers along a periodic solution: the eigenvalues of the
+// monodromy matrix of an integration over one period of the solution, of
+// the original equations (ContinuationProblem::monodromy, rmhb/continuation.h;
+// rmhb/pipeline/branch.h binds CVODE, or IDA for a DAE) or of the harmonic
+// balance linearisation (rmhb/harmonic_monodromy.h). `period_multiple`: the solution's period in periods of the
+// problem's own base frequency (2 on a period-doubled branch, whose
+// solution has base w/2 while the forcing keeps w).
+struct MonodromyResult {
+  bool ok = false;
+  std::string message;  // why not (no original equations, a failed integration)
+  Multipliers multipliers;
+  int trivial = -1;     // the phase multiplier of an autonomous orbit, or -1
+  std::string integrator;
+  double seconds = 0;
+};
+
 struct TestFunctionSigns {
   int plus = 1;   // sign of psi_+ (real multiplier through +1)
   int minus = 1;  // sign of psi_- (through -1)

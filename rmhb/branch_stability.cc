@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <stdexcept>
+#include <vector>
 
 namespace rmhb {
 
@@ -16,8 +17,10 @@ BranchStability::BranchStability(const ContinuationProblem& problem, const Conti
     monodromy_refused_ = true;
     note_ = "the monodromy was asked for, but the problem has no original equations (ContinuationProblem::monodromy)";
   }
-  if (options.stability_method == StabilityMethod::kHill) monodromy_refused_ = true;
-  if (options.stability_method == StabilityMethod::kMonodromy) hill_refused_ = true;
+  const StabilityMethod m = options.stability_method;
+  if (m != StabilityMethod::kAuto && m != StabilityMethod::kMonodromy) monodromy_refused_ = true;
+  if (m != StabilityMethod::kAuto && m != StabilityMethod::kHill) hill_refused_ = true;
+  if (m != StabilityMethod::kAuto && m != StabilityMethod::kHarmonicMonodromy) harmonic_refused_ = true;
   if (!problem.monodromy) monodromy_refused_ = true;
 }
 
@@ -27,12 +30,12 @@ bool BranchStability::Classify(const HarmonicBalanceProblem& problem, Continuati
   if (point->solution.frequencies().size() != 1) {
     note_ = "quasi-periodic solutions have no period: neither Hill's method nor a monodromy matrix applies";
   } else {
-    // Hill where it is cheap, the monodromy where it is not or Hill does
-    // not apply, Hill at any size as the last resort.
+    // The linearisation's monodromy wherever it applies; else Hill where it
+    // is cheap, the model's monodromy where it is not or Hill does not
+    // apply, Hill at any size as the last resort.
     const bool hill_cheap = unknowns_ <= options_.max_hill_unknowns;
-    if (!compared_ && options_.stability_method == StabilityMethod::kAuto && HillApplies() && !monodromy_refused_ &&
-        unknowns_ <= options_.max_cross_check_unknowns)
-      done = Compare(problem, point);
+    if (!compared_ && options_.stability_method == StabilityMethod::kAuto) Compare(problem, point, &done);
+    if (!done && !harmonic_refused_) done = TryHarmonic(problem, point);
     if (!done && HillApplies() && (hill_cheap || monodromy_refused_)) done = TryHill(problem, point);
     if (!done && !monodromy_refused_) done = TryMonodromy(point);
     if (!done && HillApplies() && !hill_cheap && !monodromy_refused_) done = TryHill(problem, point);
@@ -67,27 +70,75 @@ double Since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-bool BranchStability::Compare(const HarmonicBalanceProblem& problem, ContinuationPoint* point) {
-  ContinuationPoint by_hill = *point;
-  auto start = std::chrono::steady_clock::now();
-  const bool hill = TryHill(problem, &by_hill);
-  const double hill_seconds = Since(start);
-  start = std::chrono::steady_clock::now();
-  const bool monodromy = TryMonodromy(point);
-  const double monodromy_seconds = Since(start);
-  if (!hill || !monodromy) {
-    if (hill) *point = by_hill;
-    return hill || monodromy;  // the next point tries again
+bool BranchStability::Compare(const HarmonicBalanceProblem& problem, ContinuationPoint* point, bool* done) {
+  // Each applicable method on a copy of the point, timed.
+  struct Tried {
+    const char* name;
+    ContinuationPoint point;
+    bool ok = false;
+    double seconds = 0;
+  };
+  std::vector<Tried> tried;
+  auto attempt = [&](const char* name, auto method) {
+    tried.push_back({name, *point});
+    const auto start = std::chrono::steady_clock::now();
+    tried.back().ok = method(&tried.back().point);
+    tried.back().seconds = Since(start);
+    if (!tried.back().ok) tried.pop_back();
+  };
+  if (!harmonic_refused_) attempt("hb-monodromy", [&](ContinuationPoint* p) { return TryHarmonic(problem, p); });
+  if (HillApplies() && unknowns_ <= options_.max_cross_check_unknowns)
+    attempt("Hill", [&](ContinuationPoint* p) { return TryHill(problem, p); });
+  if (!monodromy_refused_) attempt("monodromy", [&](ContinuationPoint* p) { return TryMonodromy(p); });
+  if (tried.empty()) return false;
+  // The rule's pick: the linearisation's monodromy, else Hill when cheap,
+  // else the model's monodromy (the first in `tried` that qualifies).
+  size_t pick = 0;
+  if (tried[0].point.stability_method == StabilityMethod::kHill && unknowns_ > options_.max_hill_unknowns &&
+      tried.size() > 1)
+    pick = 1;
+  *point = tried[pick].point;
+  *done = true;
+  for (size_t i = 0; i < tried.size(); ++i) {
+    if (i == pick) continue;
+    const StabilityMethod m = tried[i].point.stability_method;
+    --(m == StabilityMethod::kHill ? hill_points_ : m == StabilityMethod::kMonodromy ? monodromy_points_ : harmonic_points_);
   }
+  if (tried.size() < 2) return false;
   compared_ = true;
-  char text[240];
-  std::snprintf(text, sizeof text, "Hill %.3g ms, monodromy %.3g ms at the first point; multipliers agree to %.1e",
-                1e3 * hill_seconds, 1e3 * monodromy_seconds,
-                MatchedDifference(by_hill.multipliers, by_hill.trivial_multiplier, point->multipliers,
-                                  point->trivial_multiplier));
+  std::string text;
+  char part[200];
+  for (const Tried& t : tried) {
+    std::snprintf(part, sizeof part, "%s%s %.3g ms", text.empty() ? "" : ", ", t.name, 1e3 * t.seconds);
+    text += part;
+  }
+  text += " at the first point; multipliers agree to";
+  for (size_t i = 0; i < tried.size(); ++i)
+    for (size_t j = i + 1; j < tried.size(); ++j) {
+      std::snprintf(part, sizeof part, "%s %.1e (%s-%s)", i + j > 1 ? "," : "",
+                    MatchedDifference(tried[i].point.multipliers, tried[i].point.trivial_multiplier,
+                                      tried[j].point.multipliers, tried[j].point.trivial_multiplier),
+                    tried[i].name, tried[j].name);
+      text += part;
+    }
   cross_check_ = text;
-  if (unknowns_ <= options_.max_hill_unknowns) *point = by_hill, --monodromy_points_;
-  else --hill_points_;
+  return true;
+}
+
+bool BranchStability::TryHarmonic(const HarmonicBalanceProblem& problem, ContinuationPoint* point) {
+  // From the grid the previous point suggested: one pass, not a sizing one.
+  HarmonicMonodromyOptions options = options_.harmonic_monodromy;
+  if (options.initial_samples == 0) options.initial_samples = harmonic_samples_;
+  const MonodromyResult r = HarmonicMonodromy(problem, point->solution, options, &harmonic_samples_);
+  if (!r.ok) {
+    // Out of its scope (auxiliaries, a DAE) the same at every point; an
+    // extrapolation that did not settle is left to the other methods too.
+    harmonic_refused_ = true;
+    note_ = "hb-monodromy: " + r.message;
+    return false;
+  }
+  Finish(r.multipliers, r.trivial, StabilityMethod::kHarmonicMonodromy, point);
+  ++harmonic_points_;
   return true;
 }
 

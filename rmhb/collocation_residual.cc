@@ -385,6 +385,23 @@ void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x, Eigen::Ma
   }
 }
 
+bool CollocationResidual::SampledPartials(const Eigen::VectorXd& x, Eigen::MatrixXd* value,
+                                         Eigen::MatrixXd* derivative) {
+  if (static_cast<int>(equations_.size()) != n_) return false;
+  for (const SlotInfo& slot : slots_)
+    if (slot.derivative > 1) return false;
+  SampleSlots(Layout(x));
+  value->setZero(M_, n_ * n_);
+  derivative->setZero(M_, n_ * n_);
+  for (int i = 0; i < n_; ++i)
+    for (int s : equations_[i].slots) {
+      EvaluateSamples(equations_[i], s, work_.data());
+      Eigen::MatrixXd& part = slots_[s].derivative ? *derivative : *value;
+      part.col(i * n_ + slots_[s].variable) += work_;
+    }
+  return true;
+}
+
 bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                        Eigen::MatrixXd* jacobian) {
   SampleSlots(x);

@@ -62,6 +62,13 @@ class CollocationResidual : public NonlinearProblem {
   // square. The solver's Jacobian is value_part + derivative_part D(w).
   void LinearizationParts(const Eigen::VectorXd& x, Eigen::MatrixXd* value_part,
                           Eigen::MatrixXd* derivative_part);
+  // The same linearisation in the time domain, at the samples: for every
+  // sample s, value(s, i n + v) = dg_i/dz_v and derivative(s, i n + v) =
+  // dg_i/dz_v' (n variables, equations i < n, partials of every slot of a
+  // variable summed). False (outputs untouched) when the system is not a
+  // square system of first-order equations (a second derivative, more
+  // equations than variables): rmhb/harmonic_monodromy.h integrates it.
+  bool SampledPartials(const Eigen::VectorXd& x, Eigen::MatrixXd* value, Eigen::MatrixXd* derivative);
   // Unknowns and residuals before the symmetry reduction.
   int num_full_unknowns() const { return full_unknowns_; }
   int num_full_residuals() const { return full_residuals_; }

@@ -23,15 +23,17 @@ const char* ToString(StabilityMethod method) {
     case StabilityMethod::kAuto: return "auto";
     case StabilityMethod::kHill: return "hill";
     case StabilityMethod::kMonodromy: return "monodromy";
+    case StabilityMethod::kHarmonicMonodromy: return "hb-monodromy";
     case StabilityMethod::kNone: break;
   }
   return "none";
 }
 
 StabilityMethod ParseStabilityMethod(const std::string& name) {
-  for (StabilityMethod m : {StabilityMethod::kAuto, StabilityMethod::kHill, StabilityMethod::kMonodromy})
+  for (StabilityMethod m : {StabilityMethod::kAuto, StabilityMethod::kHill, StabilityMethod::kMonodromy,
+                            StabilityMethod::kHarmonicMonodromy})
     if (name == ToString(m)) return m;
-  throw std::invalid_argument("unknown stability method '" + name + "' (auto, hill, monodromy)");
+  throw std::invalid_argument("unknown stability method '" + name + "' (auto, hill, monodromy, hb-monodromy)");
 }
 
 const char* ToString(ContinuationStatus status) {
@@ -77,6 +79,7 @@ std::string ContinuationOptions::IsValid() const {
   if (!(bifurcation_tolerance > 0) || !std::isfinite(bifurcation_tolerance))
     return "bifurcation_tolerance must be finite and > 0";
   if (stability_method == StabilityMethod::kNone) return "stability_method none: set stability = false instead";
+  if (std::string why = harmonic_monodromy.IsValid(); !why.empty()) return "harmonic_monodromy: " + why;
   return harmonic_balance.IsValid();
 }
 
@@ -95,9 +98,9 @@ std::string ContinuationSummary::BriefReport() const {
     if (counts[static_cast<int>(type)] > 0) out << ", " << counts[static_cast<int>(type)] << " " << ShortName(type);
   out << ", " << accepted_steps << " steps (" << rejected_steps << " refused), arclength "
       << arclength << ", " << seconds * 1e3 << " ms";
-  if (hill_points + monodromy_points > 0)
-    out << " (stability: " << hill_points << " Hill, " << monodromy_points << " monodromy, "
-        << stability_seconds * 1e3 << " ms)";
+  if (hill_points + monodromy_points + harmonic_monodromy_points > 0)
+    out << " (stability: " << harmonic_monodromy_points << " hb-monodromy, " << hill_points << " Hill, "
+        << monodromy_points << " monodromy, " << stability_seconds * 1e3 << " ms)";
   return out.str();
 }
 
@@ -157,6 +160,7 @@ class Tracer {
   void Close() {
     summary_.hill_points = stability_.hill_points();
     summary_.monodromy_points = stability_.monodromy_points();
+    summary_.harmonic_monodromy_points = stability_.harmonic_points();
     summary_.stability_seconds = stability_.seconds();
     summary_.stability_cross_check = stability_.cross_check();
     if (unknown_points_ > 0) summary_.stability_note = stability_.note();

@@ -53,26 +53,13 @@
 
 #include "rmhb/bifurcation.h"
 #include "rmhb/harmonic_balance.h"
+#include "rmhb/harmonic_monodromy.h"
 #include "rmhb/hill_stability.h"
 
 namespace rmhb {
 
 struct ContinuationPoint;
 
-// The Floquet multipliers of the original equations along a periodic
-// solution: the eigenvalues of the monodromy matrix of an integration over
-// one period of the solution (rmhb/pipeline/branch.h: CVODE, or IDA for a
-// DAE). `period_multiple`: the solution's period in periods of the
-// problem's own base frequency (2 on a period-doubled branch, whose
-// solution has base w/2 while the forcing keeps w).
-struct MonodromyResult {
-  bool ok = false;
-  std::string message;  // why not (no original equations, a failed integration)
-  Multipliers multipliers;
-  int trivial = -1;     // the phase multiplier of an autonomous orbit, or -1
-  std::string integrator;
-  double seconds = 0;
-};
 using MonodromyFunction =
     std::function<MonodromyResult(double value, const HarmonicSolution& solution, int period_multiple)>;
 
@@ -100,9 +87,12 @@ enum class ContinuationMethod { kNatural, kPseudoArclength };
 const char* ToString(ContinuationMethod method);
 
 // How a point's Floquet multipliers are computed (kNone on a point: not at all).
-enum class StabilityMethod { kAuto, kHill, kMonodromy, kNone };
-const char* ToString(StabilityMethod method);  // "auto", "hill", "monodromy", "none"
-// "auto", "hill", "monodromy"; throws std::invalid_argument otherwise.
+// kHarmonicMonodromy: the monodromy of the harmonic balance linearisation
+// integrated in the time domain (rmhb/harmonic_monodromy.h).
+enum class StabilityMethod { kAuto, kHill, kMonodromy, kHarmonicMonodromy, kNone };
+// "auto", "hill", "monodromy", "hb-monodromy", "none"
+const char* ToString(StabilityMethod method);
+// "auto", "hill", "monodromy", "hb-monodromy"; throws std::invalid_argument otherwise.
 StabilityMethod ParseStabilityMethod(const std::string& name);
 
 struct ContinuationOptions {
@@ -129,29 +119,35 @@ struct ContinuationOptions {
   // Locate each fold to |d lambda / ds| <= fold_tolerance (pseudo-arclength).
   bool locate_folds = true;
   double fold_tolerance = 1e-9;
-  // Stability of every point from its Floquet multipliers. kAuto: Hill's
-  // method (rmhb/hill_stability.h: one generalised eigenproblem, QZ, of the
-  // size n of the Jacobian, O(n^3)) up to max_hill_unknowns unknowns, above
-  // that the monodromy of the original equations when the problem provides
-  // it (ContinuationProblem::monodromy: its cost grows with the number of
-  // states, not with the order), else Hill's method at any size. Measured
-  // on a forced one-degree-of-freedom oscillator at N = 15 (62 unknowns):
-  // 2.7 ms per point by QZ, 0.5 ms by CVODE at rtol 1e-10; a two-degree-of-
-  // freedom chain at N = 25 (204 unknowns): ~100 ms by QZ, ~4 ms by CVODE.
-  // The rule is deterministic (not timed), so a trace is reproducible.
-  // kHill and kMonodromy use only that one. Hill's method does not apply to
+  // Stability of every point from its Floquet multipliers. kAuto: the
+  // monodromy of the harmonic balance linearisation integrated in the time
+  // domain (rmhb/harmonic_monodromy.h: its cost depends on the states and
+  // not on the order; Hill's multipliers to ~1e-12) wherever it applies (a
+  // periodic solution of an ODE without recast auxiliaries); elsewhere
+  // Hill's method (rmhb/hill_stability.h: one generalised eigenproblem, QZ,
+  // of the size n of the Jacobian, O(n^3)) up to max_hill_unknowns unknowns,
+  // above that the monodromy of the original equations when the problem
+  // provides it (ContinuationProblem::monodromy: its cost grows with the
+  // number of states, not with the order), else Hill's method at any size.
+  // Measured on the forced Duffing oscillator at N = 15 (62 unknowns): ~0.1-0.3
+  // ms per point by the linearisation's monodromy, 2.7 ms by QZ, 0.5-1 ms by
+  // CVODE at rtol 1e-10; a two-degree-of-freedom chain at N = 25 (204
+  // unknowns): ~100 ms by QZ, ~4 ms by CVODE. The rule is deterministic (not
+  // timed), so a trace is reproducible. kHill, kMonodromy and
+  // kHarmonicMonodromy use only that one. Hill's method does not apply to
   // pinned auxiliaries (the pendulum's sin/cos) nor to quasi-periodic
   // solutions; the monodromy needs the original equations. A point whose
   // multipliers no method gives stays kUnknown; the summary says why.
   bool stability = true;
   StabilityMethod stability_method = StabilityMethod::kAuto;
   int max_hill_unknowns = 40;
-  // kAuto, at the first point where both methods apply and Hill's problem
-  // has at most max_cross_check_unknowns unknowns: both are computed and
-  // their largest multiplier difference reported
+  // kAuto, at the first point where two methods apply (Hill's problem of at
+  // most max_cross_check_unknowns unknowns counting as applicable): every
+  // applicable one is computed and their largest multiplier differences reported
   // (ContinuationSummary::stability_cross_check).
   int max_cross_check_unknowns = 200;
   HillOptions hill;
+  HarmonicMonodromyOptions harmonic_monodromy;
   // Within this of the unit circle the largest non-trivial |mu| is neither
   // growth nor decay that a truncated (Hill) or tolerance-limited (CVODE)
   // computation can decide: kNeutral.
@@ -199,7 +195,7 @@ struct ContinuationPoint {
   bool fold = false;            // a located turning point
   int folds_before = 0;         // folds passed from the start to here
   PointStability stability = PointStability::kUnknown;
-  StabilityMethod stability_method = StabilityMethod::kNone;  // kHill or kMonodromy when known
+  StabilityMethod stability_method = StabilityMethod::kNone;  // the method that gave the multipliers
   // Floquet multipliers by decreasing modulus (Hill: one per differential
   // state), the trivial one's index (autonomous orbits) or -1, and the
   // largest non-trivial modulus.
@@ -222,6 +218,7 @@ struct ContinuationSummary {
   // points, in the order met along the branch.
   std::vector<BifurcationPoint> bifurcations;
   int hill_points = 0, monodromy_points = 0;  // stability computed by each
+  int harmonic_monodromy_points = 0;
   // kAuto's comparison of both methods at the first point, e.g. "Hill
   // 2.7 ms, monodromy 0.5 ms at the first point; multipliers agree to 5e-10".
   std::string stability_cross_check;

@@ -1,7 +1,10 @@
 #include "rmhb/harmonic_solution.h"
 
+#include <algorithm>
 #include <cmath>
+#include <complex>
 #include <stdexcept>
+#include <vector>
 
 #include "rmhb/spectral_transform.h"
 
@@ -81,9 +84,30 @@ double HarmonicSolution::Amplitude(int j) const {
   const double period = 2 * M_PI / frequencies_[0];
   const int n = 64 * basis_.size();
   double best = 0, tbest = 0;
+  // The scan only brackets the extremum for the polish below: on one base,
+  // harmonic k's phase at sample i is e^{i k theta_i} by complex products
+  // (a sin/cos pair per sample instead of one per harmonic and sample).
+  const bool one_base = basis_.num_bases() == 1;
+  int top = 0;
+  for (int k = 1; one_base && k < basis_.size(); ++k) top = std::max(top, std::abs(basis_.harmonic(k)[0]));
+  std::vector<std::complex<double>> power(top + 1);
   for (int i = 0; i < n; ++i) {
     const double t = period * i / n;
-    if (std::abs(Value(j, t)) > best) best = std::abs(Value(j, t)), tbest = t;
+    double value = 0;
+    if (one_base) {
+      power[0] = 1;
+      if (top > 0) power[1] = std::polar(1.0, frequencies_[0] * t);
+      for (int m = 2; m <= top; ++m) power[m] = power[m - 1] * power[1];
+      value = coefficients_(j, 0);
+      for (int k = 1; k < basis_.size(); ++k) {
+        const int m = basis_.harmonic(k)[0];
+        const std::complex<double> phase = m >= 0 ? power[m] : std::conj(power[-m]);
+        value += coefficients_(j, 2 * k - 1) * phase.real() + coefficients_(j, 2 * k) * phase.imag();
+      }
+    } else {
+      value = Value(j, t);
+    }
+    if (std::abs(value) > best) best = std::abs(value), tbest = t;
   }
   // Polish the extremum with Newton on z'(t) = 0 (z'' by finite difference of z').
   double t = tbest;

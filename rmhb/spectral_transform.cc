@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -45,7 +47,49 @@ std::pair<fftw_plan, fftw_plan> CachedPlans(const std::vector<int>& grid, long t
   return cache->emplace(grid, std::make_pair(forward, backward)).first->second;
 }
 
+// The dense backend's tables, shared by every transform of the same grid in
+// the process (a handful, most recent first): continuation, Monte Carlo,
+// order continuation and repeated library solves build the same tables over
+// and over, and building them (O(M K) cos/sin lookups, O(M^2) for the
+// spectrum) costs more than a Newton iteration of a small problem.
+template <typename Key, typename Tables>
+class TableCache {
+ public:
+  template <typename Make>
+  std::shared_ptr<const Tables> Get(const Key& key, Make make) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [k, tables] : entries_)
+      if (k == key) return tables;
+    auto tables = std::make_shared<const Tables>(make());
+    entries_.emplace_front(key, tables);
+    if (entries_.size() > 16) entries_.pop_back();
+    return tables;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::deque<std::pair<Key, std::shared_ptr<const Tables>>> entries_;
+};
+
+// cos and sin of 2 pi j / M, j < M: every phase is reduced mod M exactly.
+void UnitCircle(long M, Eigen::VectorXd* c, Eigen::VectorXd* s) {
+  c->resize(M);
+  s->resize(M);
+  for (long j = 0; j < M; ++j) {
+    const double a = 2.0 * M_PI * double(j) / double(M);
+    (*c)(j) = std::cos(a);
+    (*s)(j) = std::sin(a);
+  }
+}
+
 }  // namespace
+
+struct SpectralTransform::DenseTables {
+  Eigen::MatrixXd synthesis, projection;  // E (M x C), E* (C x M)
+};
+struct SpectralTransform::SpectrumTables {
+  Eigen::MatrixXd cos, sin;  // the half spectrum's real and imaginary rows, scaled by 1/M
+};
 
 SpectralTransform::SpectralTransform(const HarmonicBasis& basis, const Sampling& sampling,
                                      Backend backend)
@@ -105,43 +149,44 @@ SpectralTransform::~SpectralTransform() {
 }
 
 void SpectralTransform::SetUpDense() {
+  static auto* cache = new TableCache<std::pair<long, std::vector<int>>, DenseTables>;
   const long M = total_;
   const int K = basis_.size();
-  // cos and sin of 2 pi j / M from one table: phases reduced mod M exactly.
-  Eigen::VectorXd c(M), s(M);
-  for (long j = 0; j < M; ++j) {
-    const double a = 2.0 * M_PI * double(j) / double(M);
-    c(j) = std::cos(a);
-    s(j) = std::sin(a);
-  }
-  synthesis_.resize(M, 2 * K - 1);
-  synthesis_.col(0).setOnes();
-  for (int k = 1; k < K; ++k)
-    for (long t = 0; t < M; ++t) {
-      const int j = Mod(long(grid_index_[k]) * t, static_cast<int>(M));
-      synthesis_(t, 2 * k - 1) = c(j);
-      synthesis_(t, 2 * k) = s(j);
-    }
-  projection_ = (2.0 / double(M)) * synthesis_.transpose();
-  projection_.row(0) *= 0.5;
+  dense_tables_ = cache->Get({M, grid_index_}, [&] {
+    Eigen::VectorXd c, s;
+    UnitCircle(M, &c, &s);
+    DenseTables tables;
+    tables.synthesis.resize(M, 2 * K - 1);
+    tables.synthesis.col(0).setOnes();
+    for (int k = 1; k < K; ++k)
+      for (long t = 0; t < M; ++t) {
+        const int j = Mod(long(grid_index_[k]) * t, static_cast<int>(M));
+        tables.synthesis(t, 2 * k - 1) = c(j);
+        tables.synthesis(t, 2 * k) = s(j);
+      }
+    tables.projection = (2.0 / double(M)) * tables.synthesis.transpose();
+    tables.projection.row(0) *= 0.5;
+    return tables;
+  });
 }
 
 void SpectralTransform::SetUpDenseSpectrum() {
-  const long M = total_;
-  Eigen::VectorXd c(M), s(M);
-  for (long j = 0; j < M; ++j) {
-    const double a = 2.0 * M_PI * double(j) / double(M);
-    c(j) = std::cos(a);
-    s(j) = std::sin(a);
-  }
-  spectrum_cos_.resize(half_total_, M);
-  spectrum_sin_.resize(half_total_, M);
-  for (long t = 0; t < M; ++t)
-    for (long k = 0; k < half_total_; ++k) {
-      const int j = Mod(k * t, static_cast<int>(M));
-      spectrum_cos_(k, t) = c(j) / double(M);
-      spectrum_sin_(k, t) = -s(j) / double(M);
-    }
+  static auto* cache = new TableCache<long, SpectrumTables>;
+  const long M = total_, half = half_total_;
+  spectrum_tables_ = cache->Get(M, [&] {
+    Eigen::VectorXd c, s;
+    UnitCircle(M, &c, &s);
+    SpectrumTables tables;
+    tables.cos.resize(half, M);
+    tables.sin.resize(half, M);
+    for (long t = 0; t < M; ++t)
+      for (long k = 0; k < half; ++k) {
+        const int j = Mod(k * t, static_cast<int>(M));
+        tables.cos(k, t) = c(j) / double(M);
+        tables.sin(k, t) = -s(j) / double(M);
+      }
+    return tables;
+  });
   half_re_.resize(half_total_);
   half_im_.resize(half_total_);
 }
@@ -166,7 +211,7 @@ std::complex<double> SpectralTransform::SpectrumAt(const int* g) const {
 void SpectralTransform::Synthesize(const double* x, double* samples) {
   if (dense_) {
     Eigen::Map<Eigen::VectorXd>(samples, total_).noalias() =
-        synthesis_ * Eigen::Map<const Eigen::VectorXd>(x, synthesis_.cols());
+        dense_tables_->synthesis * Eigen::Map<const Eigen::VectorXd>(x, dense_tables_->synthesis.cols());
     return;
   }
   std::memset(static_cast<void*>(spectrum_), 0, sizeof(std::complex<double>) * half_total_);
@@ -193,8 +238,8 @@ void SpectralTransform::ForwardFftw(const double* samples) {
 
 void SpectralTransform::Project(const double* samples, double* x) {
   if (dense_) {
-    Eigen::Map<Eigen::VectorXd>(x, projection_.rows()).noalias() =
-        projection_ * Eigen::Map<const Eigen::VectorXd>(samples, total_);
+    Eigen::Map<Eigen::VectorXd>(x, dense_tables_->projection.rows()).noalias() =
+        dense_tables_->projection * Eigen::Map<const Eigen::VectorXd>(samples, total_);
     return;
   }
   ForwardFftw(samples);
@@ -216,10 +261,10 @@ void SpectralTransform::Project(const double* samples, double* x) {
 
 void SpectralTransform::Analyze(const double* samples) {
   if (dense_) {
-    if (spectrum_cos_.size() == 0) SetUpDenseSpectrum();
+    if (!spectrum_tables_) SetUpDenseSpectrum();
     const Eigen::Map<const Eigen::VectorXd> p(samples, total_);
-    half_re_.noalias() = spectrum_cos_ * p;
-    half_im_.noalias() = spectrum_sin_ * p;
+    half_re_.noalias() = spectrum_tables_->cos * p;
+    half_im_.noalias() = spectrum_tables_->sin * p;
     for (long i = 0; i < half_total_; ++i) analysed_[i] = {half_re_(i), half_im_(i)};
     return;
   }

@@ -16,13 +16,15 @@
 //    of a small problem (issue 14: the pendulum at N = 25 spent most of its
 //    `rmhb solve` time planning); the dense transform of M = 80 samples
 //    costs ~1 us, and the tables cost one pass over E (the spectrum's, for
-//    the Jacobian, on first use);
+//    the Jacobian, on first use), made once per grid and shared by the
+//    transforms of the process (a cache of the most recent 16 grids);
 //  - otherwise FFTW, with plans made once per grid and kind per process
 //    (a cache shared by all transforms, executed on their own arrays
 //    through FFTW's new-array interface): continuation, Monte Carlo and
 //    order continuation no longer plan per solve.
 
 #include <complex>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -88,9 +90,13 @@ class SpectralTransform {
   void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
   void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
   // Dense backend: E (M x C), E* (C x M), and the half spectrum's real and
-  // imaginary rows ((M/2 + 1) x M, scaled by 1/M).
+  // imaginary rows ((M/2 + 1) x M, scaled by 1/M), shared with every
+  // transform of the same grid in the process (made once, read only).
+  struct DenseTables;
+  struct SpectrumTables;
   bool dense_ = false;
-  Eigen::MatrixXd synthesis_, projection_, spectrum_cos_, spectrum_sin_;
+  std::shared_ptr<const DenseTables> dense_tables_;
+  std::shared_ptr<const SpectrumTables> spectrum_tables_;
   Eigen::VectorXd half_re_, half_im_;
 };
 

@@ -63,9 +63,11 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
   app->add_flag("--no-stability", a->no_stability,
                 "Continuation: skip the Floquet multipliers per point (and so the bifurcations but folds)");
   app->add_option("--stability-method", a->stability_method,
-                  "Continuation: auto (default: Hill's method up to 40 unknowns, else the monodromy of the "
-                  "original equations by CVODE/IDA; both at the first point, compared), hill or monodromy")
-      ->check(CLI::IsMember({"auto", "hill", "monodromy"}))
+                  "Continuation: auto (default: the monodromy of the harmonic balance linearisation where it "
+                  "applies (an ODE without recast auxiliaries), else Hill's method up to 40 unknowns, else the "
+                  "monodromy of the original equations by CVODE/IDA; all applicable at the first point, "
+                  "compared), hb-monodromy, hill or monodromy")
+      ->check(CLI::IsMember({"auto", "hill", "monodromy", "hb-monodromy"}))
       ->each([a](const std::string&) { a->stability_method_given = true; });
   app->add_flag("--switch-branches", a->switch_branches,
                 "Continuation: from every period doubling follow the period-2T branch, and at every "

@@ -12,6 +12,7 @@
 
 #include "integrators/dae_floquet.h"
 #include "integrators/floquet.h"
+#include "rmhb/harmonic_monodromy.h"
 
 namespace rmhb {
 namespace {
@@ -36,28 +37,6 @@ class ModelCache {
   std::deque<std::pair<double, std::shared_ptr<const Model>>> models_;
   std::mutex mutex_;
 };
-
-// An autonomous orbit's monodromy M maps the flow direction f at the start
-// onto itself (M f = f). In the basis [f/|f|, Q], Q an orthonormal
-// complement, M = [1 a'; 0 Q' M Q]: the non-trivial multipliers are the
-// eigenvalues of Q' M Q. Taking them there, not from M, matters for a
-// conservative orbit, whose second multiplier 1 forms a Jordan block with
-// the trivial one: an O(e) error of M splits that pair by O(sqrt(e)) (1e-5 at
-// rtol 1e-10: "unstable"), while Q' M Q keeps it at 1 + O(e).
-void DeflateTrivial(const Eigen::MatrixXd& M, const Eigen::VectorXd& flow, MonodromyResult* result) {
-  const int n = static_cast<int>(M.rows());
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(flow.normalized());
-  const Eigen::MatrixXd basis = qr.householderQ();
-  const Eigen::MatrixXd Q = basis.rightCols(n - 1);
-  const Eigen::VectorXd along = basis.col(0);
-  result->multipliers.clear();
-  result->multipliers.push_back(along.dot(M * along));
-  result->trivial = 0;
-  if (n > 1) {
-    const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(Q.transpose() * M * Q, false).eigenvalues();
-    result->multipliers.insert(result->multipliers.end(), mu.data(), mu.data() + mu.size());
-  }
-}
 
 // d/dt of the original state along the solution at t = 0.
 Eigen::VectorXd Flow(const Model& model, const HarmonicSolution& solution) {
@@ -109,7 +88,7 @@ MonodromyResult ModelMonodromy(const Model& model, const HarmonicSolution& solut
         if (differential.empty() || differential[i]) kept.push_back(flow(i));
       flow = Eigen::Map<const Eigen::VectorXd>(kept.data(), static_cast<long>(kept.size()));
     }
-    if (flow.size() == r.monodromy.rows() && flow.norm() > 0) DeflateTrivial(r.monodromy, flow, &result);
+    if (flow.size() == r.monodromy.rows() && flow.norm() > 0) DeflateTrivialMultiplier(r.monodromy, flow, &result.multipliers, &result.trivial);
   }
   result.integrator = OriginalIntegrator(model);
   result.seconds = r.seconds;

@@ -52,10 +52,11 @@ ContinuationSummary TraceModel(const char* file, double start, double end, Conti
   return TraceBranch(ProblemOn(file, "w", start, end), GuessAtOrder(model, model.default_order), options);
 }
 
-TEST(BranchBifurcations, PeriodDoublingsOfTheQuadraticOscillatorAtTheShootingReferenceByBothMethods) {
+TEST(BranchBifurcations, PeriodDoublingsOfTheQuadraticOscillatorAtTheShootingReferenceByEveryMethod) {
   const Model model = LoadModel(kQuadratic);
   double first = 0, second = 0;  // the reference, computed once
-  for (StabilityMethod method : {StabilityMethod::kMonodromy, StabilityMethod::kHill}) {
+  for (StabilityMethod method :
+       {StabilityMethod::kMonodromy, StabilityMethod::kHill, StabilityMethod::kHarmonicMonodromy}) {
     ContinuationOptions options;
     options.stability_method = method;
     const ContinuationSummary s = TraceModel(kQuadratic, 2.5, 1.5, options);
@@ -193,7 +194,7 @@ TEST(BranchSwitching, TheTorusJustPastTheNeimarkSackerPointIsATrueQuasiPeriodicO
   EXPECT_EQ(t.problem->num_unknown_frequencies(), 1);
 }
 
-TEST(BranchStability, ATwoDofBranchAtOrder25GetsTheMonodromyAtEveryPointAgreeingWithHill) {
+TEST(BranchStability, ATwoDofBranchAtOrder25GetsTheLinearisationsMonodromyAtEveryPointAgreeingWithHill) {
   constexpr const char* kChain = "tests/pipeline/models/forced-chain.yaml";
   const Model model = LoadModel(kChain, {{"W", 1.3}});
   ContinuationOptions options;
@@ -203,11 +204,17 @@ TEST(BranchStability, ATwoDofBranchAtOrder25GetsTheMonodromyAtEveryPointAgreeing
   const ContinuationSummary s = TraceBranch(problem, GuessAtOrder(model, model.default_order), options);
   ASSERT_TRUE(s.completed()) << s.FullReport();
   EXPECT_TRUE(s.stability_note.empty()) << s.stability_note;
-  EXPECT_GE(s.monodromy_points, static_cast<int>(s.points.size()));
+  // An ODE without auxiliaries: the harmonic balance linearisation's own
+  // monodromy (rmhb/harmonic_monodromy.h) at every point, cross-checked at
+  // the first against the CVODE monodromy (Hill's 204 unknowns are over the
+  // cross-check's 200).
+  EXPECT_GE(s.harmonic_monodromy_points, static_cast<int>(s.points.size()));
   EXPECT_EQ(s.hill_points, 0);
+  EXPECT_EQ(s.monodromy_points, 0);
+  EXPECT_NE(s.stability_cross_check.find("monodromy"), std::string::npos) << s.stability_cross_check;
   for (size_t i = 0; i < s.points.size(); i += s.points.size() / 2) {
     const ContinuationPoint& p = s.points[i];
-    EXPECT_EQ(p.stability_method, StabilityMethod::kMonodromy);
+    EXPECT_EQ(p.stability_method, StabilityMethod::kHarmonicMonodromy);
     const HillStabilityReport hill = HillStability(LoadModel(kChain, {{"W", p.parameter}}).problem, p.solution);
     ASSERT_EQ(hill.multipliers.size(), p.multipliers.size());
     for (const auto& mu : hill.multipliers) {

@@ -1,6 +1,8 @@
-// Stability two independent ways: Hill's method on the harmonic balance
-// Jacobian (rmhb/hill_stability.h) and the monodromy matrix of a CVODE
-// integration of the original equations (integrators/floquet.h), on the
+// Stability three ways: Hill's method on the harmonic balance Jacobian
+// (rmhb/hill_stability.h), the monodromy of the same linearisation
+// integrated in the time domain (rmhb/harmonic_monodromy.h) and the
+// monodromy matrix of a CVODE integration of the original equations
+// (integrators/floquet.h), on the
 // forced Duffing oscillator with three coexisting periodic solutions. Both
 // are also held against Liouville's formula: for x'' + c x' + k x + a x^3 =
 // F cos(w t) the trace of the Jacobian is -c, so mu_1 mu_2 = exp(-c T) exactly.
@@ -13,6 +15,7 @@
 #include "examples/example_system.h"
 #include "integrators/floquet.h"
 #include "rmhb/harmonic_balance.h"
+#include "rmhb/harmonic_monodromy.h"
 #include "rmhb/hill_stability.h"
 
 namespace rmhb {
@@ -24,7 +27,19 @@ struct Branch {
   HarmonicSolution solution;
   HillStabilityReport hill;
   integrators::FloquetReport floquet;
+  MonodromyResult linearised;  // HarmonicMonodromy
 };
+
+// Largest distance from each multiplier of `a` to the nearest of `b`.
+double Nearest(const std::vector<std::complex<double>>& a, const std::vector<std::complex<double>>& b) {
+  double worst = 0;
+  for (const auto& mu : a) {
+    double nearest = HUGE_VAL;
+    for (const auto& nu : b) nearest = std::min(nearest, std::abs(mu - nu));
+    worst = std::max(worst, nearest);
+  }
+  return worst;
+}
 
 // The three solutions at w = 2 (c = 0.1, k = a = F = 1), from the roots y = A^2
 // of the one-harmonic amplitude equation ((k - w^2 + 3/4 a y)^2 + c^2 w^2) y = F^2.
@@ -57,7 +72,8 @@ std::vector<Branch> ThreeBranches() {
     const HarmonicSolution& sol = *s.solution;
     integrators::OdeSystem ode{2, e.original.rhs};
     branches.push_back({sol, HillStability(e.problem, sol),
-                        integrators::FloquetMultipliers(ode, e.original.state(sol, 0.0), 0.0, 2 * M_PI / kW)});
+                        integrators::FloquetMultipliers(ode, e.original.state(sol, 0.0), 0.0, 2 * M_PI / kW),
+                        HarmonicMonodromy(e.problem, sol)});
   }
   return branches;
 }
@@ -89,6 +105,20 @@ TEST(Stability, HillAndFloquetAgreeOnTheThreeDuffingBranches) {
       EXPECT_LT(nearest, 1e-8 * std::max(1.0, std::abs(mu))) << "Hill multiplier " << mu;
     }
   }
+  // The linearisation's own monodromy: Hill's multipliers (the same
+  // linearisation) to round-off and the extrapolation's tolerance, CVODE's
+  // to the truncation at N = 20, and Liouville (the trace of its Jacobian is
+  // -c for any x(t), so this checks the integration alone) to 1e-10.
+  for (int i = 0; i < 3; ++i) {
+    const MonodromyResult& m = b[i].linearised;
+    SCOPED_TRACE("branch " + std::to_string(i) + ": " + m.message);
+    ASSERT_TRUE(m.ok);
+    ASSERT_EQ(m.multipliers.size(), 2u);
+    EXPECT_EQ(m.trivial, -1);
+    EXPECT_LT(Nearest(m.multipliers, b[i].hill.multipliers), 1e-10);
+    EXPECT_LT(Nearest(m.multipliers, b[i].floquet.multipliers), 1e-8);
+    EXPECT_NEAR(std::abs(m.multipliers[0] * m.multipliers[1]), std::exp(-kC * T), 1e-10);
+  }
   // The saddle has a real multiplier outside the unit circle.
   EXPECT_GT(std::abs(b[1].floquet.multipliers[0]), 1.0);
   EXPECT_NEAR(b[1].floquet.multipliers[0].imag(), 0.0, 1e-12);
@@ -117,6 +147,11 @@ TEST(Stability, ExactExponentsOfTheForcedLinearOscillator) {
       {2, e.original.rhs}, e.original.state(*s.solution, 0.0), 0.0, T);
   for (const auto& mu : f.multipliers)
     EXPECT_LT(std::min(std::abs(mu - std::exp(exact * T)), std::abs(mu - std::exp(std::conj(exact) * T))), 1e-9)
+        << mu;
+  const MonodromyResult m = HarmonicMonodromy(e.problem, *s.solution);
+  ASSERT_TRUE(m.ok) << m.message;
+  for (const auto& mu : m.multipliers)
+    EXPECT_LT(std::min(std::abs(mu - std::exp(exact * T)), std::abs(mu - std::exp(std::conj(exact) * T))), 1e-12)
         << mu;
   EXPECT_THROW(integrators::FloquetMultipliers({2, e.original.rhs}, Eigen::Vector2d(0, 0), 0.0, 0.0),
                std::invalid_argument);
@@ -156,6 +191,11 @@ TEST(Stability, HillKeepsBothFlipMultipliersOfTheMathieuTongue) {
   EXPECT_NEAR((f.multipliers[0] * f.multipliers[1]).real(), std::exp(-c * 2 * M_PI), 1e-9);
   EXPECT_FALSE(h.stable);
   EXPECT_FALSE(f.stable);
+  // Both flip multipliers, real and negative, from the linearisation too.
+  const MonodromyResult m = HarmonicMonodromy(problem, zero);
+  ASSERT_TRUE(m.ok) << m.message;
+  EXPECT_LT(Nearest(m.multipliers, f.multipliers), 1e-9);
+  for (const auto& mu : m.multipliers) EXPECT_LT(mu.real(), 0);
 }
 
 TEST(Stability, HillRefusesPinnedAuxiliariesAndQuasiPeriodicSolutions) {
@@ -163,6 +203,16 @@ TEST(Stability, HillRefusesPinnedAuxiliariesAndQuasiPeriodicSolutions) {
   EXPECT_THROW(HillStability(p.problem, p.guess), std::invalid_argument);
   const examples::ExampleSetup q = examples::BuildExample("forced-vanderpol");
   EXPECT_THROW(HillStability(q.problem, q.guess), std::invalid_argument);
+  // The linearisation's monodromy says why not, and does not throw.
+  const MonodromyResult pendulum = HarmonicMonodromy(p.problem, p.guess);
+  EXPECT_FALSE(pendulum.ok);
+  EXPECT_NE(pendulum.message.find("auxiliaries"), std::string::npos) << pendulum.message;
+  const MonodromyResult torus = HarmonicMonodromy(q.problem, q.guess);
+  EXPECT_FALSE(torus.ok);
+  EXPECT_NE(torus.message.find("periodic"), std::string::npos) << torus.message;
+  HarmonicMonodromyOptions bad;
+  bad.tolerance = 0;
+  EXPECT_THROW(HarmonicMonodromy(p.problem, p.guess, bad), std::invalid_argument);
 }
 
 TEST(Stability, FloquetFindsTheTrivialMultiplierOfTheVanDerPolLimitCycle) {
@@ -197,6 +247,14 @@ TEST(Stability, FloquetFindsTheTrivialMultiplierOfTheVanDerPolLimitCycle) {
   const std::complex<double> other_f = f.multipliers[1 - f.trivial], other_h = h.multipliers[1 - h.trivial];
   EXPECT_NEAR(other_f.real(), std::exp(integral), 1e-8);
   EXPECT_NEAR(other_h.real(), std::exp(integral), 1e-10);
+  // The linearisation's monodromy: the trivial multiplier deflated along the
+  // flow, and the other by Liouville.
+  const MonodromyResult linearised = HarmonicMonodromy(e.problem, sol);
+  ASSERT_TRUE(linearised.ok) << linearised.message;
+  ASSERT_EQ(linearised.trivial, 0);
+  EXPECT_NEAR(std::abs(linearised.multipliers[0] - 1.0), 0.0, 1e-9);
+  EXPECT_NEAR(linearised.multipliers[1].real(), std::exp(integral), 1e-10);
+  EXPECT_NEAR(linearised.multipliers[1].imag(), 0.0, 1e-12);
 }
 
 }  // namespace
