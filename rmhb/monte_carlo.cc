@@ -102,6 +102,7 @@ std::string MonteCarloOptions::IsValid() const {
   if (reference_order > 0 && reference_order <= solve.order)
     return "reference_order must exceed the order";
   if (!(cluster_tolerance > 0) || !(match_tolerance > 0)) return "tolerances must be > 0";
+  if (newton_stall_iterations < 0) return "newton_stall_iterations must be >= 0 (0: never)";
   return solve.IsValid();
 }
 
@@ -259,13 +260,15 @@ StartSolves SolveStarts(const HarmonicBalanceProblem& problem, const MonteCarloO
       residuals.push_back(std::make_unique<CollocationResidual>(problem, basis, Sampling::Uniform(samples)));
     }
     std::vector<double> seconds(num_rules, 0);
+    SolverOptions solver = options.solve.solver;
+    if (solver.newton_stall_iterations == 0) solver.newton_stall_iterations = options.newton_stall_iterations;
     for (long j; (j = next.fetch_add(1)) < mine;) {
       const long i = first + j * stride;
       const Eigen::MatrixXd guess = RandomStart(options.seed, i, n, C, options.low, options.high);
       for (int r = 0; r < num_rules; ++r) {
         const double t0 = ThreadCpuSeconds();
         Eigen::VectorXd x = residuals[r]->Pack(guess, problem.frequencies);
-        const SolverSummary s = SolveNonlinear(*residuals[r], &x, options.solve.solver);
+        const SolverSummary s = SolveNonlinear(*residuals[r], &x, solver);
         if (s.converged() && x.allFinite()) {
           StartOutcome found;
           residuals[r]->Unpack(x, &found.coefficients, &found.frequencies);

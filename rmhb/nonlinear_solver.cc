@@ -189,6 +189,7 @@ std::string SolverOptions::IsValid() const {
   if (!(max_seconds >= 0) || !std::isfinite(max_seconds))
     return "max_seconds must be finite and >= 0 (0: no limit)";
   if (fallback_max_iterations < 1) return "fallback_max_iterations must be >= 1";
+  if (newton_stall_iterations < 0) return "newton_stall_iterations must be >= 0 (0: never)";
   return "";
 }
 
@@ -352,6 +353,8 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     return finish(SolverStatus::kNoConvergence, msg.str());
   };
   double step = 0;  // max|D_c^-1 dx| of the last step
+  double best_residual = s.initial_residual;  // max|F|, for newton_stall_iterations
+  int since_best = 0;
   for (s.iterations = 1; s.iterations <= options.max_iterations; ++s.iterations) {
     if (norm <= options.residual_tolerance * residual_scale()) {
       --s.iterations;
@@ -513,6 +516,17 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     if (step <= options.step_tolerance * x_size) break;
     // Slow progress at a tiny step is a least-squares floor, not a failure.
     if (stalled >= 3 && step <= 1e3 * options.step_tolerance * x_size) break;
+    if (method == SolverMethod::kNewton && options.newton_stall_iterations > 0) {
+      if (s.final_residual < 0.5 * best_residual) {
+        best_residual = s.final_residual;
+        since_best = 0;
+      } else if (++since_best >= options.newton_stall_iterations) {
+        std::ostringstream msg;
+        msg << "no progress: max|F| has not halved in " << since_best << " iterations (best " << best_residual
+            << "), " << residual_text();
+        return finish(SolverStatus::kNoConvergence, msg.str());
+      }
+    }
   }
   if (ever_factored) {
     s.reciprocal_condition = factorization.reciprocal_condition();
