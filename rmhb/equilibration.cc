@@ -1,6 +1,9 @@
 #include "rmhb/equilibration.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 
 namespace rmhb {
 namespace {
@@ -9,9 +12,22 @@ namespace {
 double InverseSqrtPowerOfTwo(double m) {
   if (!(m > 0) || !std::isfinite(m)) return 1.0;
   int exponent = 0;
-  std::frexp(m, &exponent);  // m = f 2^exponent, f in [1/2, 1)
+  if (m >= std::numeric_limits<double>::min()) {
+    // A normal number: frexp's exponent straight from the bits (m = f 2^e,
+    // f in [1/2, 1), e = biased exponent - 1022), several times cheaper than
+    // frexp and ldexp in the Monte Carlo's thousands of small equilibrations.
+    std::uint64_t bits;
+    std::memcpy(&bits, &m, sizeof bits);
+    exponent = static_cast<int>((bits >> 52) & 0x7ff) - 1022;
+  } else {
+    std::frexp(m, &exponent);
+  }
   // m in [2^(e-1), 2^e): the factor 2^-floor(e/2) puts m factor^2 in [1/2, 2).
-  return std::ldexp(1.0, -static_cast<int>(std::floor(exponent / 2.0)));
+  const int power = -(exponent >= 0 ? exponent / 2 : -((-exponent + 1) / 2));
+  const std::uint64_t bits = static_cast<std::uint64_t>(power + 1023) << 52;  // |power| <= 538: normal
+  double factor;
+  std::memcpy(&factor, &bits, sizeof factor);
+  return factor;
 }
 
 }  // namespace

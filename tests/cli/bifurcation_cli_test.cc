@@ -84,7 +84,10 @@ TEST(CliBifurcations, TheTextSaysWhereAndHowWellEachPointWasLocated) {
   EXPECT_EQ(Count(r.out, "period doubling at w = "), 2u) << r.out;
   EXPECT_EQ(Count(r.out, "<- PD"), 2u) << r.out;
   EXPECT_EQ(Count(r.out, "located: |mu + 1| = "), 2u) << r.out;
-  EXPECT_NE(r.out.find("stability cross-check: Hill"), std::string::npos) << r.out;
+  // Every applicable method at the first point, and how well they agree.
+  EXPECT_NE(r.out.find("stability cross-check: hb-monodromy"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(hb-monodromy-Hill)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(Hill-monodromy)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("max|mu|"), std::string::npos) << r.out;
 }
 
