@@ -5,6 +5,10 @@
 //   against the number of unknowns (the quadratic oscillator of the tests at
 //   N = 10 ... 80, chains of 2 ... 8 forced cubic oscillators at N = 25),
 //   and how far their multipliers are apart at the first point.
+// - unilateral [N] [M]: NLvib's example 03 as written, max(x1 - 1, 0)
+//   (tests/benchmarks/models/unilateral.yaml; default N = 21, M = 4096):
+//   the branch, its bifurcations against shooting, every point against
+//   CVODE with the contact switches located by root finding.
 // - nlvib: NLvib's example 03 with its unilateral spring smoothed by tanh
 //   (tests/benchmarks/models/unilateral-smooth.yaml, N = 30), Omega from 0.8
 //   down to 0.5: the bifurcations located by continuation against the
@@ -15,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -93,30 +98,39 @@ void StabilityCost() {
   }
 }
 
-void NlvibExample03() {
-  const std::string file = std::string(RMHB_SOURCE_DIR) + "/tests/benchmarks/models/unilateral-smooth.yaml";
-  const int order = 30;
+// NLvib's example 03, smoothed (unilateral-smooth.yaml, N = 30, the
+// branches from the PD and NS points too) or as written with max()
+// (unilateral.yaml: N and M given, every point against the event-located
+// CVODE reference).
+void NlvibExample03(const std::string& name, int order, int samples, bool branches) {
+  const std::string file = std::string(RMHB_SOURCE_DIR) + "/tests/benchmarks/models/" + name + ".yaml";
   const Model model = LoadModel(file, {{"W", 0.8}});
   const ContinuationProblem problem =
       ModelContinuationProblem([file](double W) { return LoadModel(file, {{"W", W}}); }, "W", 0.8, 0.5);
   ContinuationOptions options;
   options.harmonic_balance.order = order;
+  if (samples > 0) options.harmonic_balance.samples = {samples};
   auto start = std::chrono::steady_clock::now();
   const ContinuationSummary s = TraceBranch(problem, GuessAtOrder(model, order), options);
   const double seconds = Since(start);
-  std::printf("\nNLvib example 03, unilateral spring smoothed by tanh (s = 5), N = %d, Omega 0.8 -> 0.5\n%s\n", order,
-              s.BriefReport().c_str());
+  std::printf("\nNLvib example 03 (%s), N = %d, M = %d, Omega 0.8 -> 0.5\n%s\n", name.c_str(), order,
+              samples, s.BriefReport().c_str());
   std::printf("trace %.2f s, stability %.2f s (%d Hill, %d monodromy)\n", seconds, s.stability_seconds, s.hill_points,
               s.monodromy_points);
-  // Every point against CVODE over one period.
-  double worst = 0;
+  // Every point against CVODE over one period (event-located for max()).
+  double worst = 0, sum = 0;
+  std::string integrator;
   for (const ContinuationPoint& p : s.points) {
     const Model here = LoadModel(file, {{"W", p.parameter}});
     const double T = 2 * M_PI / p.parameter;
     const integrators::ValidationReport v = ValidateOriginal(here, p.solution, T, 201);
-    worst = std::max(worst, v.ok ? JudgeValidation(here, p.solution, v, T, 1).relative_error : HUGE_VAL);
+    const double e = v.ok ? JudgeValidation(here, p.solution, v, T, 1).relative_error : HUGE_VAL;
+    worst = std::max(worst, e);
+    sum += e;
+    integrator = v.integrator;
   }
-  std::printf("every point against CVODE (Adams, rtol 1e-13) over a period: max relative error %.1e\n", worst);
+  std::printf("every point against %s over a period: max relative error %.1e, mean %.1e\n", integrator.c_str(),
+              worst, sum / s.points.size());
   // The bifurcations against the shooting reference.
   Eigen::VectorXd y = model.state(s.points.front().solution, 0.0);
   for (const BifurcationPoint& b : s.bifurcations) {
@@ -129,6 +143,7 @@ void NlvibExample03() {
     std::printf("    shooting reference W = %.12f: error %.1e\n", reference, b.parameter - reference);
   }
   for (const BifurcationPoint& b : s.bifurcations) {
+    if (!branches) break;
     if (b.type == BifurcationType::kPeriodDoubling) {
       start = std::chrono::steady_clock::now();
       const DoubledBranch d = TraceDoubledBranch(problem, s, b, options);
@@ -167,6 +182,9 @@ void NlvibExample03() {
 int main(int argc, char** argv) {
   const std::string what = argc > 1 ? argv[1] : "all";
   if (what == "stability" || what == "all") StabilityCost();
-  if (what == "nlvib" || what == "all") NlvibExample03();
+  if (what == "nlvib" || what == "all") NlvibExample03("unilateral-smooth", 30, 0, true);
+  // build/tests/benchmarks/bifurcation_benchmark unilateral [N] [M]
+  if (what == "unilateral" || what == "all")
+    NlvibExample03("unilateral", argc > 2 ? std::atoi(argv[2]) : 21, argc > 3 ? std::atoi(argv[3]) : 4096, false);
   return 0;
 }
