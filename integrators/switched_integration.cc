@@ -115,6 +115,45 @@ SwitchedIntegration IntegrateSwitched(const SwitchedOdeSystem& system, const Eig
   return out;
 }
 
+Eigen::MatrixXd SwitchedMonodromy(const SwitchedOdeSystem& system, const Eigen::VectorXd& y0, double T,
+                                  const IntegratorOptions& options, std::string* failure) {
+  const int n = system.dimension;
+  SwitchedOdeSystem augmented;
+  augmented.dimension = n + n * n;
+  augmented.num_switches = system.num_switches;
+  augmented.next_mode = system.next_mode;
+  augmented.rhs = [&system, n](double t, const double* z, const signed char* modes, double* zdot, double* arguments) {
+    system.rhs(t, z, modes, zdot, arguments);
+    thread_local Eigen::VectorXd y, fp, fm;
+    thread_local Eigen::MatrixXd J;
+    y = Eigen::Map<const Eigen::VectorXd>(z, n);
+    fp.resize(n);
+    fm.resize(n);
+    J.resize(n, n);
+    for (int j = 0; j < n; ++j) {
+      const double h = 6e-6 * (1 + std::abs(y(j)));  // ~cbrt(eps): central differences
+      const double saved = y(j);
+      y(j) = saved + h;
+      system.rhs(t, y.data(), modes, fp.data(), nullptr);
+      y(j) = saved - h;
+      system.rhs(t, y.data(), modes, fm.data(), nullptr);
+      y(j) = saved;
+      J.col(j) = (fp - fm) / (2 * h);
+    }
+    Eigen::Map<Eigen::MatrixXd>(zdot + n, n, n) = J * Eigen::Map<const Eigen::MatrixXd>(z + n, n, n);
+  };
+  Eigen::VectorXd z0(n + n * n);
+  z0.head(n) = y0;
+  Eigen::Map<Eigen::MatrixXd>(z0.data() + n, n, n).setIdentity();
+  const SwitchedIntegration r = IntegrateSwitched(augmented, z0, 0.0, {T}, options);
+  if (!r.result.ok()) {
+    if (failure) *failure = r.result.message;
+    return {};
+  }
+  const Eigen::VectorXd zT = r.result.trajectory.states.row(0).transpose();
+  return Eigen::Map<const Eigen::MatrixXd>(zT.data() + n, n, n);
+}
+
 ValidationReport ValidateSwitchedTrajectory(const SwitchedOdeSystem& system,
                                             const std::function<Eigen::VectorXd(double)>& claimed, double t_end,
                                             int samples) {

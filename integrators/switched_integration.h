@@ -59,6 +59,16 @@ ValidationReport ValidateSwitchedTrajectory(const SwitchedOdeSystem& system,
                                             const std::function<Eigen::VectorXd(double)>& claimed, double t_end,
                                             int samples = 2001);
 
+// The monodromy matrix of the orbit from (0, y0) over [0, T]: y with its
+// variational equations Phi' = f_y Phi, f_y by central differences on the
+// frozen branch, integrated by IntegrateSwitched. Exact for switches across
+// which f is continuous (ramp: max, min, abs, clamp: the saltation matrix is
+// the identity); a jump of f (sign, heaviside, Coulomb) needs a saltation
+// matrix this does not apply. Empty with `failure` set when the integration
+// fails.
+Eigen::MatrixXd SwitchedMonodromy(const SwitchedOdeSystem& system, const Eigen::VectorXd& y0, double T,
+                                  const IntegratorOptions& options, std::string* failure);
+
 }  // namespace rmhb::integrators
 
 #endif  // RMHB_INTEGRATORS_SWITCHED_INTEGRATION_H_

@@ -33,7 +33,7 @@ enum class QuasiPeriodicSampling { kTorus, kGcd };
 // Piecewise-smooth pointwise equations (METHOD.md s.15) fold their
 // algebraically decaying spectrum onto the kept harmonics at any grid: on
 // the finer grid the residual of a true solution is the quadrature error of
-// the kinks (~1e-5 at M = 32 N for a unilateral spring of stiffness 100),
+// the kinks (~1e-5 at M = 64 N for a unilateral spring of stiffness 100),
 // while a solution that exists only at the samples leaves O(1). So their
 // alias check fails only above this (relative) bound.
 constexpr double kNonSmoothAliasFloor = 1e-2;

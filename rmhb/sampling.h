@@ -68,9 +68,9 @@ int FftFriendlySize(int m);
 // The polynomial equations stay exact on any grid above their alias-free
 // count (Theorem 1), so they keep RHB's treatment on the finer grid.
 constexpr int kPointwiseOversampling = 3;
-constexpr int kNonSmoothOversampling = 32;
+constexpr int kNonSmoothOversampling = 128;
 // The grid of a non-smooth system for `reach` harmonics with the given
-// oversampling (NonSmoothSamples(21, 32) = 1024, NLvib's example 03).
+// oversampling (NonSmoothSamples(21) = 4096; NLvib's example 03 uses 1024).
 int NonSmoothSamples(int reach, int oversampling = kNonSmoothOversampling, int alias_free = 0);
 std::vector<int> SamplesForRule(const PolynomialSystem& system, const HarmonicBasis& basis,
                                 SamplingRule rule, std::vector<int>* alias_free = nullptr);

@@ -150,12 +150,12 @@ SwitchedRhs MakeSwitchedRhs(std::shared_ptr<const CompiledFunction> tape, Layout
 // way the force pushes; when its velocity vanishes (or at the start with
 // v = 0) it sticks if the force that keeps it stuck is within the bound,
 // else slides the way that force pushes. Other switches: the crossing's
-// direction.
+// direction (at the start, direction 0: the mode they have).
 std::function<int(double, const double*, int, int, const signed char*)> MakeNextMode(
     std::shared_ptr<const CompiledFunction> tape, Layout layout, std::vector<double> frequencies) {
   return [tape, layout, frequencies](double t, const double* y, int k, int direction, const signed char* modes) {
     const int S = tape->num_switches();
-    if (k < S) return direction >= 0 ? 1 : -1;
+    if (k < S) return direction == 0 ? int(modes[k]) : direction > 0 ? 1 : -1;
     std::vector<signed char> trial(modes, modes + S + layout.K);
     std::vector<double> ydot(layout.n), arguments(S + layout.K), forces(layout.K);
     if (direction == 0) {
