@@ -1,9 +1,24 @@
 #include "rmhb/pipeline/report.h"
 
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 
 namespace rmhb {
+
+std::string StringPrintf(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  va_list again;
+  va_copy(again, args);
+  const int length = std::vsnprintf(nullptr, 0, format, args);
+  va_end(args);
+  std::string text(length > 0 ? length : 0, '\0');
+  if (length > 0) std::vsnprintf(text.data(), text.size() + 1, format, again);
+  va_end(again);
+  return text;
+}
+
 namespace {
 
 using nlohmann::json;
