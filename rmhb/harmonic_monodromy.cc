@@ -25,6 +25,9 @@ std::string OutOfScope(const HarmonicBalanceProblem& problem, const HarmonicSolu
       return "the recast has auxiliaries (" + v.name + " = " + v.definition + "): not an ODE in its states";
   for (const Equation& eq : problem.system.equations())
     if (!eq.balance_constant) return "an equation is pinned at t = 0 (a recast auxiliary)";
+  // Romberg's extrapolation needs smooth coefficients; a kink's jump in the
+  // linearisation leaves the trapezoidal rule at O(h^2).
+  if (problem.system.HasNonSmooth()) return "piecewise-smooth terms (the linearisation jumps at the switches)";
   return "";
 }
 

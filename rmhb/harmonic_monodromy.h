@@ -4,7 +4,7 @@
 // The Floquet multipliers of a periodic harmonic balance solution z(t) from
 // the monodromy matrix of the equations linearised about z(t) itself,
 //   B(t) y' + A(t) y = 0,   A = dg/dz, B = dg/dz'  (n x n, exact at the samples),
-// integrated over one period in the time domain (METHOD.md s.15): the
+// integrated over one period in the time domain (METHOD.md s.16): the
 // trapezoidal rule on a uniform grid of the period, whose global error
 // expands in even powers of the step, extrapolated (Romberg) over four
 // halvings of the step to order 8. Its cost depends on the number of states
@@ -18,7 +18,8 @@
 //
 // Applies to periodic solutions of square first-order systems without recast
 // auxiliaries (every variable a state) whose B(t) is invertible at every
-// sample, i.e. an ODE. Otherwise, or when the extrapolation does not settle
+// sample, i.e. an ODE, with smooth terms (no piecewise-smooth ones: METHOD.md
+// s.15). Otherwise, or when the extrapolation does not settle
 // within the step budget, MonodromyResult::ok is false and `message` says why
 // (continuation then takes Hill's method or the model's own monodromy).
 
