@@ -62,7 +62,7 @@ MonodromyResult SwitchedModelMonodromy(const Model& model, const HarmonicSolutio
   result.ok = true;
   const Eigen::VectorXd flow = Flow(model, solution);
   if (floquet.autonomous && flow.norm() > 0) {
-    DeflateTrivial(M, flow, &result);
+    DeflateTrivialMultiplier(M, flow, &result.multipliers, &result.trivial);
     return result;
   }
   const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(M, false).eigenvalues();
@@ -117,7 +117,8 @@ MonodromyResult ModelMonodromy(const Model& model, const HarmonicSolution& solut
         if (differential.empty() || differential[i]) kept.push_back(flow(i));
       flow = Eigen::Map<const Eigen::VectorXd>(kept.data(), static_cast<long>(kept.size()));
     }
-    if (flow.size() == r.monodromy.rows() && flow.norm() > 0) DeflateTrivialMultiplier(r.monodromy, flow, &result.multipliers, &result.trivial);
+    if (flow.size() == r.monodromy.rows() && flow.norm() > 0)
+      DeflateTrivialMultiplier(r.monodromy, flow, &result.multipliers, &result.trivial);
   }
   result.integrator = OriginalIntegrator(model);
   result.seconds = r.seconds;
