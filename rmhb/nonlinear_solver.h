@@ -40,6 +40,7 @@
 #include <vector>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 
 namespace rmhb {
 
@@ -52,6 +53,25 @@ class NonlinearProblem {
   // when the point is not admissible (non-finite values).
   virtual bool Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                         Eigen::MatrixXd* jacobian) = 0;
+
+  // Large problems (METHOD.md s.15), optional: a problem that can keep its
+  // linearisation about x offers exact Jacobian-vector products and its
+  // Jacobian as a sparse matrix, exact or coarsened, so that Newton needs
+  // no dense J (LinearSolver::kSparse, kKrylov).
+  virtual bool HasLinearization() const { return false; }
+  // F(x), keeping the linearisation about x for the two calls below (a
+  // later Evaluate does not disturb it). False when not admissible.
+  virtual bool Linearize(const Eigen::VectorXd& x, Eigen::VectorXd* residual);
+  // J v at the kept linearisation.
+  virtual void ApplyJacobian(const Eigen::VectorXd& v, Eigen::VectorXd* product);
+  // J at the kept linearisation; with coupling < 1 a coarsened J that keeps
+  // the full coupling only among the first `coupling` fraction of each
+  // unknown's modes (the rest: their diagonal blocks), the Krylov
+  // preconditioner. coupling = 1 is the exact J.
+  virtual void SparseJacobian(double coupling, Eigen::SparseMatrix<double>* jacobian);
+  // Fraction of J's entries that can be nonzero (structure only, without
+  // assembling J): what the automatic choice of linear solver reads.
+  virtual double JacobianDensity() const { return 1; }
 };
 
 enum class SolverMethod { kAuto, kNewton, kLevenbergMarquardt, kTikhonov };
@@ -63,6 +83,20 @@ enum class Scaling { kNone, kEquilibrate };
 const char* ToString(Scaling scaling);
 // "none", "equilibrate"; throws std::invalid_argument otherwise.
 Scaling ParseScaling(const std::string& name);
+
+// How Newton solves J dx = -F (METHOD.md s.15). kDense: LAPACK LU (QR when
+// overdetermined); kSparse: the exact sparse J by UMFPACK; kKrylov: GMRES
+// (Eigen) on exact Jacobian-vector products, preconditioned by the UMFPACK
+// LU of a coarsened J. kSparse and kKrylov need a square system and a
+// problem with HasLinearization(). kAuto: dense up to
+// SolverOptions::dense_limit unknowns (and always for a non-square system or
+// a problem without the large-problem interface); above it sparse where J is
+// sparse (JacobianDensity() <= sparse_density), else Krylov. The
+// regularised methods (lm, tikhonov) are always dense.
+enum class LinearSolver { kAuto, kDense, kSparse, kKrylov };
+const char* ToString(LinearSolver solver);
+// "auto", "dense", "sparse", "krylov"; throws std::invalid_argument otherwise.
+LinearSolver ParseLinearSolver(const std::string& name);
 
 struct SolverOptions {
   // kAuto: Newton (Gauss-Newton if overdetermined); on failure, Levenberg-
@@ -108,6 +142,18 @@ struct SolverOptions {
   // Newton's region; one that needs more is better restarted from a better
   // guess than crawled to.
   int fallback_max_iterations = 50;
+  // The linear solver of Newton's steps and what kAuto decides on (see
+  // LinearSolver above; the thresholds are where the README's table of time
+  // against unknowns has them cross).
+  LinearSolver linear_solver = LinearSolver::kAuto;
+  int dense_limit = 2500;
+  double sparse_density = 0.25;
+  // kKrylov: the preconditioner couples this fraction of the modes fully
+  // (the rest by their diagonal blocks); GMRES stops at this relative
+  // (preconditioned) residual or after this many iterations per step.
+  double krylov_coupling = 0.25;
+  double krylov_tolerance = 1e-12;
+  int krylov_max_iterations = 300;
   bool estimate_condition = false;  // costs one SVD of the final Jacobian
   bool verbose = false;
   std::string IsValid() const;  // empty when valid, otherwise what is wrong
@@ -154,11 +200,24 @@ struct SolverSummary {
   std::vector<double> residual_history;
   int num_unknowns = 0;
   int num_residuals = 0;
+  // The linear solver Newton used (never kAuto after a solve; kDense for
+  // the regularised methods), the GMRES iterations over all steps (kKrylov),
+  // and the process's peak resident memory at the end of the solve (bytes,
+  // getrusage; 0 where unknown).
+  LinearSolver linear_solver = LinearSolver::kDense;
+  int linear_iterations = 0;
+  double peak_memory_bytes = 0;
 
   bool converged() const { return status == SolverStatus::kConverged; }
   std::string BriefReport() const;
   std::string FullReport() const;
 };
+
+// What kAuto (or the option given) picks for this problem.
+LinearSolver ChooseLinearSolver(const NonlinearProblem& problem, const SolverOptions& options);
+
+// The process's peak resident memory so far, in bytes (0 where unknown).
+double PeakMemoryBytes();
 
 // Solves in place from the initial guess in *x.
 SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
