@@ -394,29 +394,44 @@ void CollocationResidual::SparseJacobian(double coupling, Eigen::SparseMatrix<do
   const int K = basis_.size();
   const int coupled = coupling >= 1 ? K : std::clamp(static_cast<int>(std::ceil(coupling * K)), 1, K);
   std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::MatrixXd low(2 * coupled - 1, 2 * coupled - 1);
+  const int low_size = 2 * coupled - 1;
+  Eigen::MatrixXd low(low_size, low_size);
   Eigen::Matrix2d diagonal;
   for (size_t i = 0; i < equations_.size(); ++i) {
     const CompiledEquation& eq = equations_[i];
     if (eq.first_row < 0) continue;
     const int skip = eq.balance_constant ? 0 : 1;
+    // Coefficient c of the equation is residual row first_row + c - skip.
+    auto rows_from = [&](int first) {
+      return [&eq, skip, first](int r) { return first + r < skip ? -1 : eq.first_row + first + r - skip; };
+    };
+    // The coupled blocks summed per unknown variable first (a condensed
+    // variable's slots land on its source's), then stored once: a third of
+    // the triplets for x, x', x'' of one variable.
+    std::map<int, Eigen::MatrixXd> coupled_blocks;
     for (size_t q = 0; q < eq.slots.size(); ++q) {
       const SlotInfo& slot = slots_[eq.slots[q]];
       transform_->Analyze(lin.partials[i][q].data());
       const double* rate = slot.derivative ? lin.rates.data() : nullptr;
       low.setZero();
       transform_->AddMultiplicationBlock(1.0, rate, 0, coupled, low);
-      // Coefficient c of the equation is residual row first_row + c - skip.
-      auto rows_from = [&](int first) {
-        return [&eq, skip, first](int r) { return first + r < skip ? -1 : eq.first_row + first + r - skip; };
-      };
-      AddSparseBlock(&triplets, rows_from(0), 0, low, slot.variable);
+      const int source = definitions_[slot.variable].source >= 0 ? definitions_[slot.variable].source
+                                                                 : slot.variable;
+      auto [it, fresh] = coupled_blocks.try_emplace(source);
+      if (fresh) it->second.setZero(low_size, low_size);
+      int column = 0;
+      double factor = 0;
+      for (int c = 0; c < low_size; ++c)
+        if (ChainColumn(slot.variable, c, lin.rates, &column, &factor) && column - column_[source] < low_size)
+          it->second.col(column - column_[source]) += factor * low.col(c);
       for (int k = coupled; k < K; ++k) {
         diagonal.setZero();
         transform_->AddMultiplicationBlock(1.0, rate, k, k + 1, diagonal);
         AddSparseBlock(&triplets, rows_from(2 * k - 1), 2 * k - 1, diagonal, slot.variable);
       }
     }
+    for (const auto& [source, block] : coupled_blocks)
+      AddSparseBlock(&triplets, rows_from(0), 0, block, source);
   }
   // Point conditions: rows of g_z (z(0) = a_0 + sum a_k) and g_z' (z'(0) =
   // sum rate_k b_k) per variable.
@@ -609,6 +624,32 @@ void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x, Eigen::Ma
       part.block(static_cast<long>(i) * C_, slots_[s].variable * C_, C_, C_) += block_;
     }
   }
+}
+
+void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x,
+                                             Eigen::SparseMatrix<double>* value_part,
+                                             Eigen::SparseMatrix<double>* derivative_part) {
+  SampleSlots(Layout(x));
+  std::vector<Eigen::Triplet<double>> value, derivative;
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    for (int s : eq.slots) {
+      EvaluateSamples(eq, s, work_.data());
+      transform_->Analyze(work_.data());
+      block_.setZero();
+      transform_->AddMultiplicationMatrix(1.0, nullptr, block_);
+      const double floor = 1e-14 * block_.cwiseAbs().maxCoeff();
+      auto& part = slots_[s].derivative ? derivative : value;
+      for (int l = 0; l < C_; ++l)
+        for (int k = 0; k < C_; ++k)
+          if (std::abs(block_(k, l)) > floor)
+            part.emplace_back(static_cast<int>(i) * C_ + k, slots_[s].variable * C_ + l, block_(k, l));
+    }
+  }
+  value_part->resize(n_ * C_, n_ * C_);
+  derivative_part->resize(n_ * C_, n_ * C_);
+  value_part->setFromTriplets(value.begin(), value.end());
+  derivative_part->setFromTriplets(derivative.begin(), derivative.end());
 }
 
 bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,

@@ -78,6 +78,12 @@ class CollocationResidual : public NonlinearProblem {
   // square. The solver's Jacobian is value_part + derivative_part D(w).
   void LinearizationParts(const Eigen::VectorXd& x, Eigen::MatrixXd* value_part,
                           Eigen::MatrixXd* derivative_part);
+  // The same as sparse matrices, for Hill's method at large sizes: only
+  // the (equation, variable) blocks that exist, each without the round-off
+  // of its FFT (entries below 1e-14 of the block's largest: a constant
+  // partial gives a diagonal block, not a dense one).
+  void LinearizationParts(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>* value_part,
+                          Eigen::SparseMatrix<double>* derivative_part);
   // Unknowns and residuals before the symmetry reduction.
   int num_full_unknowns() const { return full_unknowns_; }
   int num_full_residuals() const { return full_residuals_; }

@@ -180,6 +180,12 @@ JacobianSize DenseJacobianSize(const HarmonicBalanceProblem& problem,
 void CheckJacobianSize(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions& options) {
   const JacobianSize size = DenseJacobianSize(problem, options);
   if (size.bytes() <= options.max_jacobian_bytes) return;
+  // The sparse and Krylov solvers never form the dense J; kAuto takes one
+  // of them at this size unless the system is not square (METHOD.md s.15).
+  const LinearSolver solver = options.solver.linear_solver;
+  if (solver == LinearSolver::kSparse || solver == LinearSolver::kKrylov ||
+      (solver == LinearSolver::kAuto && size.rows == size.columns))
+    return;
   std::ostringstream msg;
   msg.precision(15);
   msg << "order " << options.order << " needs a dense Jacobian of " << size.rows << " x "

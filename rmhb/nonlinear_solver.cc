@@ -122,11 +122,18 @@ namespace {
 
 // The Jacobian in the form the linear solver needs: dense, or (sparse,
 // Krylov) the problem's kept linearisation and its sparse J, exact or
-// coarsened into the preconditioner.
+// coarsened into the preconditioner. Krylov steps always use the current
+// linearisation (exact products: Newton's convergence), but the
+// preconditioner is rebuilt only when GMRES needed more than
+// krylov_rebuild_iterations with the old one: at a few thousand unknowns
+// its LU costs far more than the products (METHOD.md s.15).
 class Jacobian {
  public:
-  Jacobian(NonlinearProblem& problem, LinearSolver kind, double coupling)
-      : problem_(problem), kind_(kind), coupling_(kind == LinearSolver::kKrylov ? coupling : 1.0) {}
+  Jacobian(NonlinearProblem& problem, LinearSolver kind, const SolverOptions& options)
+      : problem_(problem),
+        kind_(kind),
+        coupling_(kind == LinearSolver::kKrylov ? options.krylov_coupling : 1.0),
+        rebuild_iterations_(options.krylov_rebuild_iterations) {}
   LinearSolver kind() const { return kind_; }
   bool dense_form() const { return kind_ == LinearSolver::kDense; }
   // F and J at x; false when either is not finite (or x not admissible).
@@ -136,22 +143,35 @@ class Jacobian {
       return problem_.Evaluate(x, F, &dense_) && F->allFinite() && dense_.allFinite();
     }
     if (!problem_.Linearize(x, F) || !F->allFinite()) return false;
+    if (kind_ == LinearSolver::kKrylov && built_ && last_iterations_ <= rebuild_iterations_) return true;
     problem_.SparseJacobian(coupling_, &sparse_);
+    built_ = true;
+    ++version_;
     return Eigen::Map<const Eigen::VectorXd>(sparse_.valuePtr(), sparse_.nonZeros()).allFinite();
   }
-  Equilibration Equilibrate() const {
-    return dense_form() ? rmhb::Equilibrate(dense_) : rmhb::Equilibrate(sparse_);
+  // Of the dense J, the sparse J or the preconditioner (kept with it).
+  Equilibration Equilibrate() {
+    if (dense_form()) return rmhb::Equilibrate(dense_);
+    if (scaled_version_ != version_) scaling_ = rmhb::Equilibrate(sparse_), scaled_version_ = version_;
+    return scaling_;
   }
   const Eigen::MatrixXd& dense() const { return dense_; }
   const Eigen::SparseMatrix<double>& sparse() const { return sparse_; }
+  // Changes whenever sparse() does.
+  int version() const { return version_; }
   NonlinearProblem& problem() const { return problem_; }
+  void ReportIterations(int iterations) { last_iterations_ = iterations; }
 
  private:
   NonlinearProblem& problem_;
   LinearSolver kind_;
   double coupling_;
+  int rebuild_iterations_;
   Eigen::MatrixXd dense_;
   Eigen::SparseMatrix<double> sparse_;
+  bool built_ = false;
+  int version_ = 0, scaled_version_ = -1, last_iterations_ = 0;
+  Equilibration scaling_;
 };
 
 double MaxAbs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
@@ -172,9 +192,12 @@ double DiagonalRatio(const Eigen::VectorXd& d) {
 class NewtonFactorization {
  public:
   explicit NewtonFactorization(const SolverOptions& options) : options_(options) {}
-  void Factor(const Jacobian& jacobian, const Equilibration& e, bool scaled) {
+  void Factor(Jacobian& jacobian, const Equilibration& e, bool scaled) {
     kind_ = jacobian.kind();
     if (kind_ == LinearSolver::kDense) return Factor(jacobian.dense(), e, scaled);
+    jacobian_ = &jacobian;
+    if (jacobian.version() == factored_version_) return;  // the preconditioner is kept
+    factored_version_ = jacobian.version();
     // Sparse and Krylov: square systems only (checked before the solve).
     square_ = true;
     row_ = e.row;
@@ -184,9 +207,12 @@ class NewtonFactorization {
     const Eigen::SparseMatrix<double>& J = jacobian.sparse();
     // UMFPACK's solves read the matrix again: it lives as long as the LU.
     sparse_scaled_ = row_.asDiagonal() * J * column_.asDiagonal();
+    // No iterative refinement: Newton (and GMRES) correct the step anyway,
+    // and UMFPACK's default two refinement sweeps tripled the cost of every
+    // preconditioner application.
+    sparse_lu_.umfpackControl()(UMFPACK_IRSTEP) = 0;
     sparse_lu_.compute(sparse_scaled_);
     sparse_failed_ = sparse_lu_.info() != Eigen::Success;
-    problem_ = &jacobian.problem();
   }
   void Factor(const Eigen::MatrixXd& J, const Equilibration& e, bool scaled) {
     kind_ = LinearSolver::kDense;
@@ -216,13 +242,14 @@ class NewtonFactorization {
   const Eigen::VectorXd& row() const { return row_; }
   const Eigen::VectorXd& column() const { return column_; }
   // The scaled Newton step y for the residual F (unscaled).
-  Eigen::VectorXd Step(const Eigen::VectorXd& F) {
+  // Krylov: GMRES to the relative `tolerance` (inexact Newton).
+  Eigen::VectorXd Step(const Eigen::VectorXd& F, double tolerance = 0) {
     const Eigen::VectorXd b = row_.cwiseProduct(F);
     if (kind_ == LinearSolver::kDense)
       return square_ ? Eigen::VectorXd(-lu_.solve(b)) : Eigen::VectorXd(-qr_.solve(b));
     if (sparse_failed_) return Eigen::VectorXd::Constant(b.size(), NAN);
     if (kind_ == LinearSolver::kSparse) return -sparse_lu_.solve(b);
-    return -KrylovSolve(b);
+    return -KrylovSolve(b, std::max(tolerance, options_.krylov_tolerance));
   }
   // GMRES iterations over every Krylov step so far.
   int linear_iterations() const { return linear_iterations_; }
@@ -268,16 +295,17 @@ class NewtonFactorization {
   // J_s, no restart within krylov_max_iterations (the basis costs n words
   // per iteration, far below a dense J). Left preconditioned: the test is
   // on the preconditioned residual.
-  Eigen::VectorXd KrylovSolve(const Eigen::VectorXd& b) {
-    krylov::ScaledJacobian A(*problem_, row_, column_);
+  Eigen::VectorXd KrylovSolve(const Eigen::VectorXd& b, double tolerance) {
+    krylov::ScaledJacobian A(jacobian_->problem(), row_, column_);
     Eigen::GMRES<krylov::ScaledJacobian, krylov::LuPreconditioner> gmres;
-    gmres.setTolerance(options_.krylov_tolerance);
+    gmres.setTolerance(tolerance);
     gmres.setMaxIterations(options_.krylov_max_iterations);
     gmres.set_restart(options_.krylov_max_iterations);
     gmres.compute(A);
     gmres.preconditioner().set(&sparse_lu_);
     Eigen::VectorXd y = gmres.solve(b);
     linear_iterations_ += static_cast<int>(gmres.iterations());
+    jacobian_->ReportIterations(static_cast<int>(gmres.iterations()));
     return y;
   }
 
@@ -306,7 +334,8 @@ class NewtonFactorization {
   Eigen::SparseMatrix<double> sparse_scaled_;  // D_r J D_c, sparse J or the preconditioner's
   Eigen::UmfPackLU<Eigen::SparseMatrix<double>> sparse_lu_;
   bool sparse_failed_ = false;
-  NonlinearProblem* problem_ = nullptr;  // Krylov: the products
+  Jacobian* jacobian_ = nullptr;  // sparse, Krylov: the products, the preconditioner's age
+  int factored_version_ = -1;
   int linear_iterations_ = 0;
   bool square_ = true, scaled_ = false;
   mutable bool estimated_ = false;
@@ -414,6 +443,7 @@ std::string SolverOptions::IsValid() const {
   if (!(krylov_coupling > 0 && krylov_coupling <= 1)) return "krylov_coupling must be in (0, 1]";
   if (!(krylov_tolerance > 0 && krylov_tolerance < 1)) return "krylov_tolerance must be in (0, 1)";
   if (krylov_max_iterations < 1) return "krylov_max_iterations must be >= 1";
+  if (krylov_rebuild_iterations < 0) return "krylov_rebuild_iterations must be >= 0";
   return "";
 }
 
@@ -539,7 +569,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
                         std::to_string(s.num_residuals) + " equations for " +
                         std::to_string(s.num_unknowns) + " unknowns); use dense");
   }
-  Jacobian J(problem, s.linear_solver, options.krylov_coupling);
+  Jacobian J(problem, s.linear_solver, options);
 
   Eigen::VectorXd F(s.num_residuals), Ftrial(s.num_residuals), xtrial;
   ++s.evaluations;
@@ -625,7 +655,11 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         factored = true;
         chord = false;
       }
-      Eigen::VectorXd y = factorization.Step(F);
+      // Inexact Newton (Eisenstat & Walker, SIAM J. Sci. Comput. 17, 1996):
+      // a Krylov step need not be more accurate than the residual is small;
+      // quadratic convergence survives with a forcing term ~ |F|.
+      const double forcing = std::min(1e-4, norm / residual_scale());
+      Eigen::VectorXd y = factorization.Step(F, forcing);
       if (!Finite(y)) return finish(SolverStatus::kFailure, "singular Jacobian (Newton step is not finite); try --solver lm");
       // Damping by Deuflhard's natural monotonicity test: accept x + t dx
       // when the simplified Newton correction |J^-1 F(x + t dx)| shrinks by
@@ -643,7 +677,9 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         xtrial = *x + t * dx;
         ++s.evaluations;
         if (problem.Evaluate(xtrial, &Ftrial, nullptr) && Finite(Ftrial)) {
-          const double simplified = factorization.column().cwiseProduct(factorization.Step(Ftrial)).norm();
+          // Only the norm of the simplified correction matters: 1e-3 will do.
+          const double simplified =
+              factorization.column().cwiseProduct(factorization.Step(Ftrial, std::max(forcing, 1e-3))).norm();
           if (simplified <= (1 - 0.25 * t) * y_norm) {
             accepted = true;
             dx *= t;
@@ -677,7 +713,10 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         // Shamanskii steps); otherwise refresh the Jacobian at the new point.
         const double trial = scaled_norm(Ftrial);
         const double ratio = trial / std::max(norm, 1e-300);
-        if (ratio < options.chord_contraction &&
+        // Krylov: a fresh linearisation costs a residual evaluation (its
+        // preconditioner is kept, see Jacobian), so every step is a full
+        // Newton step.
+        if (J.kind() != LinearSolver::kKrylov && ratio < options.chord_contraction &&
             trial > options.residual_tolerance * residual_scale()) {
           chord = true;
         } else {

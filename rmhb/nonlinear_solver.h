@@ -151,9 +151,13 @@ struct SolverOptions {
   // kKrylov: the preconditioner couples this fraction of the modes fully
   // (the rest by their diagonal blocks); GMRES stops at this relative
   // (preconditioned) residual or after this many iterations per step.
-  double krylov_coupling = 0.25;
+  double krylov_coupling = 0.0625;
   double krylov_tolerance = 1e-12;
   int krylov_max_iterations = 300;
+  // Every Newton step uses the current linearisation's exact products; the
+  // preconditioner (its assembly and LU) is rebuilt only after a GMRES
+  // solve that needed more than this many iterations.
+  int krylov_rebuild_iterations = 40;
   bool estimate_condition = false;  // costs one SVD of the final Jacobian
   bool verbose = false;
   std::string IsValid() const;  // empty when valid, otherwise what is wrong

@@ -66,6 +66,11 @@ void AddSolveSettings(CLI::App* app, ModelSettings* m) {
                   "tests, so a model in SI units converges like its nondimensional form) or none "
                   "(absolute tests on max|F| and the step)")
       ->check(CLI::IsMember({"equilibrate", "none"}));
+  app->add_option("--linear-solver", a->linear_solver,
+                  "Newton's linear solver: auto (default: dense LU up to 2500 unknowns, above it "
+                  "sparse LU where the Jacobian is block-sparse, else GMRES on exact Jacobian-vector "
+                  "products), dense, sparse (UMFPACK) or krylov (GMRES, UMFPACK-preconditioned)")
+      ->check(CLI::IsMember({"auto", "dense", "sparse", "krylov"}));
   app->add_option("--max-iterations", a->max_iterations, "Nonlinear solver iteration limit (default 100)")
       ->check(CLI::Range(1, 100000));
   app->add_flag("--allow-aliasing", a->allow_aliasing, "Accept M below the alias-free bound");

@@ -10,6 +10,7 @@
 #include "examples/example_system.h"
 #include "rmhb/collocation_residual.h"
 #include "rmhb/harmonic_balance.h"
+#include "rmhb/hill_stability.h"
 
 namespace rmhb {
 namespace {
@@ -139,6 +140,48 @@ TEST(LargeProblem, AutomaticChoiceBySizeAndStructure) {
   EXPECT_NE(s.message.find("square"), std::string::npos) << s.message;
   EXPECT_THROW(ParseLinearSolver("lu"), std::invalid_argument);
   EXPECT_EQ(ParseLinearSolver("krylov"), LinearSolver::kKrylov);
+}
+
+}  // namespace
+}  // namespace rmhb
+
+namespace rmhb {
+namespace {
+
+// Hill's exponents by shift-invert Arnoldi (Spectra) equal the dense QZ's:
+// a forced Duffing (stable, two exponents), Van der Pol (autonomous: the
+// trivial exponent) and the Rayleigh-Plesset bubble, where the harmonic
+// centroid has to pick the physical copies among the nearest eigenvalues.
+TEST(LargeProblem, ShiftInvertHillExponentsEqualTheDenseQz) {
+  for (const char* example : {"duffing", "vanderpol", "rayleigh-plesset"}) {
+    SCOPED_TRACE(example);
+    examples::ExampleSetup e = examples::BuildExample(example);
+    HarmonicBalanceOptions o;
+    o.order = 20;
+    const HarmonicBalanceSummary s = SolveHarmonicBalance(e.problem, e.guess, o);
+    ASSERT_TRUE(s.usable()) << s.FullReport();
+    HillOptions dense, shift_invert;
+    dense.eigensolver = HillEigensolver::kDense;
+    shift_invert.eigensolver = HillEigensolver::kShiftInvert;
+    const HillStabilityReport a = HillStability(e.problem, *s.solution, dense);
+    const HillStabilityReport b = HillStability(e.problem, *s.solution, shift_invert);
+    EXPECT_EQ(b.eigensolver, HillEigensolver::kShiftInvert);
+    ASSERT_EQ(a.exponents.size(), b.exponents.size());
+    EXPECT_LT(b.eigenvalues, a.eigenvalues);  // only some near the axis
+    EXPECT_EQ(a.stable, b.stable);
+    EXPECT_EQ(a.trivial, b.trivial);
+    // Multipliers: the copy kept may differ by i m w, exp(lambda T) not;
+    // a conjugate pair may come in either order.
+    for (const auto& mu : a.multipliers) {
+      double nearest = INFINITY;
+      for (const auto& nu : b.multipliers) nearest = std::min(nearest, std::abs(mu - nu));
+      EXPECT_LT(nearest, 1e-9 * (1 + std::abs(mu))) << mu;
+    }
+    EXPECT_NEAR(a.max_real_part, b.max_real_part, 1e-9);
+    HillOptions automatic;
+    automatic.dense_limit = 10;
+    EXPECT_EQ(HillStability(e.problem, *s.solution, automatic).eigensolver, HillEigensolver::kShiftInvert);
+  }
 }
 
 }  // namespace
