@@ -132,7 +132,10 @@ class Jacobian {
   Jacobian(NonlinearProblem& problem, LinearSolver kind, const SolverOptions& options)
       : problem_(problem),
         kind_(kind),
-        coupling_(kind == LinearSolver::kKrylov ? options.krylov_coupling : 1.0),
+        coupling_(kind != LinearSolver::kKrylov
+                      ? 1.0
+                      : std::min(options.krylov_coupling,
+                                 double(options.krylov_max_coupled) / std::max(1, problem.num_unknowns()))),
         rebuild_iterations_(options.krylov_rebuild_iterations) {}
   LinearSolver kind() const { return kind_; }
   bool dense_form() const { return kind_ == LinearSolver::kDense; }
@@ -403,8 +406,7 @@ LinearSolver ChooseLinearSolver(const NonlinearProblem& problem, const SolverOpt
   if (!problem.HasLinearization() || problem.num_residuals() != problem.num_unknowns() ||
       problem.num_unknowns() <= options.dense_limit)
     return LinearSolver::kDense;
-  return problem.JacobianDensity() <= options.sparse_density ? LinearSolver::kSparse
-                                                             : LinearSolver::kKrylov;
+  return LinearSolver::kKrylov;
 }
 
 const char* ToString(Scaling s) { return s == Scaling::kNone ? "none" : "equilibrate"; }
@@ -444,6 +446,7 @@ std::string SolverOptions::IsValid() const {
   if (!(krylov_tolerance > 0 && krylov_tolerance < 1)) return "krylov_tolerance must be in (0, 1)";
   if (krylov_max_iterations < 1) return "krylov_max_iterations must be >= 1";
   if (krylov_rebuild_iterations < 0) return "krylov_rebuild_iterations must be >= 0";
+  if (krylov_max_coupled < 1) return "krylov_max_coupled must be >= 1";
   return "";
 }
 
@@ -488,6 +491,23 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
   o.method = SolverMethod::kNewton;
   SolverSummary newton = SolveWith(problem, x, o);
   if (newton.converged() || newton.status == SolverStatus::kInvalidInput) return newton;
+  if (newton.linear_solver == LinearSolver::kKrylov && options.linear_solver == LinearSolver::kAuto &&
+      problem.JacobianDensity() <= options.sparse_density &&
+      !(options.max_seconds > 0 && newton.seconds >= options.max_seconds)) {
+    // A block-sparse J has a direct solver that does not depend on how
+    // well the preconditioner approximates it: Newton again with it.
+    *x = start;
+    o.linear_solver = LinearSolver::kSparse;
+    if (options.max_seconds > 0) o.max_seconds = options.max_seconds - newton.seconds;
+    SolverSummary sparse = SolveWith(problem, x, o);
+    sparse.iterations += newton.iterations;
+    sparse.evaluations += newton.evaluations;
+    sparse.linear_iterations += newton.linear_iterations;
+    sparse.seconds += newton.seconds;
+    sparse.message = "Newton-Krylov failed (" + newton.message + "); sparse LU: " +
+                     (sparse.message.empty() ? std::string("converged") : sparse.message);
+    return sparse;
+  }
   if (newton.linear_solver != LinearSolver::kDense) {
     // Levenberg-Marquardt works on a dense J'J: not at this size.
     newton.message = "Newton failed (" + newton.message + "); no Levenberg-Marquardt fallback with the " +

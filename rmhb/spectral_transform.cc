@@ -239,12 +239,24 @@ void SpectralTransform::AddMultiplicationBlock(double scale, const double* rate,
   // One angle: the spectrum at every grid index k +- l can reach, gathered
   // once (the general lookup reduces indices modulo the grid per entry,
   // which was 60 % of a Jacobian at N = 55).
+  // Only the indices this block reaches: differences within +-(max - min)
+  // of its grid indices, sums within 2 min .. 2 max (a diagonal block of a
+  // high harmonic needs a handful, not the whole line: the coarsened
+  // Jacobians of METHOD.md s.15 ask for thousands of them).
   const bool line = dims_ == 1;
-  int span = 0;
+  int span = 0, low = 0;
   if (line) {
-    for (int k = first; k < last; ++k) span = std::max(span, 2 * std::abs(grid_index_[k]));
+    int lowest = grid_index_[first], highest = grid_index_[first];
+    for (int k = first; k < last; ++k) {
+      lowest = std::min(lowest, grid_index_[k]);
+      highest = std::max(highest, grid_index_[k]);
+    }
+    span = highest - lowest;
+    low = 2 * lowest;
     line_spectrum_.resize(2 * span + 1);
+    sum_spectrum_.resize(2 * span + 1);
     for (int g = -span; g <= span; ++g) line_spectrum_[g + span] = SpectrumAt(&g);
+    for (int g = low; g <= low + 2 * span; ++g) sum_spectrum_[g - low] = SpectrumAt(&g);
   }
   // Coefficient positions in `out`: harmonic k's cos at 2k - 1 - offset.
   const int offset = first == 0 ? 0 : 2 * first - 1;
@@ -263,7 +275,7 @@ void SpectralTransform::AddMultiplicationBlock(double scale, const double* rate,
       if (l == 0) {
         ccos = pd;
       } else {
-        const std::complex<double> ps = line ? line_spectrum_[sum[0] + span] : SpectrumAt(sum);
+        const std::complex<double> ps = line ? sum_spectrum_[sum[0] - low] : SpectrumAt(sum);
         ccos = 0.5 * (pd + ps);
         csin = std::complex<double>(0, -0.5) * (pd - ps);
       }

@@ -91,7 +91,9 @@ class SpectralTransform {
   double* real_ = nullptr;
   std::complex<double>* spectrum_ = nullptr;
   std::vector<std::complex<double>> analysed_;
-  mutable std::vector<std::complex<double>> line_spectrum_;  // one angle: P[g], g = -span..span
+  // One angle: P[g] at the differences g = -span..span and the sums g =
+  // low..low + 2 span of the block being built.
+  mutable std::vector<std::complex<double>> line_spectrum_, sum_spectrum_;
   void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
   void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
   // Dense backend: E (M x C), E* (C x M), and the half spectrum's real and

@@ -124,6 +124,9 @@ TEST(LargeProblem, AutomaticChoiceBySizeAndStructure) {
   EXPECT_EQ(small.residual->JacobianDensity(), 1.0);
   o.dense_limit = 10;
   EXPECT_EQ(ChooseLinearSolver(*small.residual, o), LinearSolver::kKrylov);
+  // The fallback's structure test: Duffing not condensed is x' = v (x, v)
+  // and v' + ... (v, x): every block; a chain is tested in the pipeline.
+  EXPECT_EQ(MakeCase("duffing", 20, false).residual->JacobianDensity(), 1.0);
   o.linear_solver = LinearSolver::kSparse;
   EXPECT_EQ(ChooseLinearSolver(*small.residual, o), LinearSolver::kSparse);
   // The conservative pendulum is overdetermined by one: dense whatever the size.
