@@ -48,7 +48,7 @@ class CollocationResidual : public NonlinearProblem {
   bool Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                 Eigen::MatrixXd* jacobian) override;
 
-  // Large problems (METHOD.md s.15). Linearize keeps, per equation and
+  // Large problems (METHOD.md s.16). Linearize keeps, per equation and
   // slot, the partial derivative at the samples; J v is then one synthesis
   // per slot and one projection per equation, O(K log K) with FFTW, exact
   // (the same J as Evaluate's). SparseJacobian assembles J from the same

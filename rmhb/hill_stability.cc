@@ -87,7 +87,7 @@ void SelectPhysical(std::vector<Candidate> candidates, int states, double w,
 
 // The exponents nearest the imaginary axis by shift-invert Arnoldi
 // (Spectra) on the sparse Hill matrices, more of them until every
-// differential state has its physical one (METHOD.md s.15).
+// differential state has its physical one (METHOD.md s.16).
 void ShiftInvertExponents(CollocationResidual& residual, const Eigen::VectorXd& x, int n, int C,
                           double w, const HarmonicBasis& basis, HillStabilityReport* report) {
   Eigen::SparseMatrix<double> A, B;

@@ -15,7 +15,7 @@
 // do not depend on which copy is kept, which is what makes them comparable
 // with the monodromy matrix of an integration (integrators/floquet.h).
 //
-// Large sizes (METHOD.md s.15): the dense QZ costs O((nC)^3) (17 minutes
+// Large sizes (METHOD.md s.16): the dense QZ costs O((nC)^3) (17 minutes
 // for 80 states at N = 25), so above HillOptions::dense_limit rows the
 // exponents nearest the imaginary axis come from shift-invert Arnoldi
 // (Spectra) on the sparse Hill matrices, factorised by UMFPACK: the

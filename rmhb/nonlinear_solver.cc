@@ -29,7 +29,7 @@ namespace krylov {
 
 // The Newton matrix J_s = D_r J D_c as a matrix-free operator for Eigen's
 // GMRES: every product is one NonlinearProblem::ApplyJacobian (for the
-// harmonic balance, a few FFTs: O(K log K), METHOD.md s.15). The
+// harmonic balance, a few FFTs: O(K log K), METHOD.md s.16). The
 // boilerplate is Eigen's documented way to give its iterative solvers a
 // matrix-free operator ("Matrix-free solvers" in Eigen's manual).
 class ScaledJacobian : public Eigen::EigenBase<ScaledJacobian> {
@@ -126,7 +126,7 @@ namespace {
 // linearisation (exact products: Newton's convergence), but the
 // preconditioner is rebuilt only when GMRES needed more than
 // krylov_rebuild_iterations with the old one: at a few thousand unknowns
-// its LU costs far more than the products (METHOD.md s.15).
+// its LU costs far more than the products (METHOD.md s.16).
 class Jacobian {
  public:
   Jacobian(NonlinearProblem& problem, LinearSolver kind, const SolverOptions& options)

@@ -54,7 +54,7 @@ class NonlinearProblem {
   virtual bool Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                         Eigen::MatrixXd* jacobian) = 0;
 
-  // Large problems (METHOD.md s.15), optional: a problem that can keep its
+  // Large problems (METHOD.md s.16), optional: a problem that can keep its
   // linearisation about x offers exact Jacobian-vector products and its
   // Jacobian as a sparse matrix, exact or coarsened, so that Newton needs
   // no dense J (LinearSolver::kSparse, kKrylov).
@@ -84,7 +84,7 @@ const char* ToString(Scaling scaling);
 // "none", "equilibrate"; throws std::invalid_argument otherwise.
 Scaling ParseScaling(const std::string& name);
 
-// How Newton solves J dx = -F (METHOD.md s.15). kDense: LAPACK LU (QR when
+// How Newton solves J dx = -F (METHOD.md s.16). kDense: LAPACK LU (QR when
 // overdetermined); kSparse: the exact sparse J by UMFPACK; kKrylov: GMRES
 // (Eigen) on exact Jacobian-vector products, preconditioned by the UMFPACK
 // LU of a coarsened J. kSparse and kKrylov need a square system and a

@@ -242,7 +242,7 @@ void SpectralTransform::AddMultiplicationBlock(double scale, const double* rate,
   // Only the indices this block reaches: differences within +-(max - min)
   // of its grid indices, sums within 2 min .. 2 max (a diagonal block of a
   // high harmonic needs a handful, not the whole line: the coarsened
-  // Jacobians of METHOD.md s.15 ask for thousands of them).
+  // Jacobians of METHOD.md s.16 ask for thousands of them).
   const bool line = dims_ == 1;
   int span = 0, low = 0;
   if (line) {

@@ -66,7 +66,7 @@ class SpectralTransform {
   // The same restricted to the basis harmonics [first, last) (rows and
   // columns both): out is the block of their coefficients, the constant (if
   // first = 0) then cos, sin per harmonic. Sparse Jacobians and their
-  // preconditioners (METHOD.md s.15) take the low harmonics' block and the
+  // preconditioners (METHOD.md s.16) take the low harmonics' block and the
   // 2 x 2 diagonal blocks of the higher ones without the whole C x C block.
   void AddMultiplicationBlock(double scale, const double* derivative_rates, int first, int last,
                               Eigen::Ref<Eigen::MatrixXd> out) const;

@@ -1,4 +1,4 @@
-// Large problems (issue 15, METHOD.md s.15): time and peak memory of Newton
+// Large problems (issue 15, METHOD.md s.16): time and peak memory of Newton
 // with the dense, sparse and Krylov linear solvers against the unknowns, on
 // a problem whose Jacobian is dense (Van der Pol, one variable after
 // condensation) and one whose Jacobian is block-sparse (the 40-DOF forced

@@ -1,4 +1,4 @@
-// The large-problem linear algebra (METHOD.md s.15): the Jacobian-vector
+// The large-problem linear algebra (METHOD.md s.16): the Jacobian-vector
 // product and the sparse Jacobian against the dense Jacobian, Newton with
 // the sparse and Krylov linear solvers against the dense one, and the
 // automatic choice.
