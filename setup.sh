@@ -10,7 +10,7 @@ cd "$(dirname "$0")"
 packages=(build-essential cmake pkg-config libeigen3-dev libfftw3-dev libnlopt-cxx-dev
           libsundials-dev libginac-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
           libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox libopenblas-dev ccache
-          libhdf5-dev libopenmpi-dev openmpi-bin
+          libhdf5-dev libopenmpi-dev openmpi-bin libsuitesparse-dev libspectra-dev
           pybind11-dev python3-dev python3-numpy python3-pytest)
 missing=()
 for p in "${packages[@]}"; do

@@ -92,6 +92,36 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
   block_.resize(C_, C_);
   rates_.resize(basis.size());
   for (long t = 0; t < M_; ++t) sample_phase_.push_back(transform_->Phase({1}, t));
+  SetUpLinearAlgebra();
+}
+
+void CollocationResidual::SetUpLinearAlgebra() {
+  auto inverse = [](const std::vector<int>& kept, int size) {
+    std::vector<int> reduced(size, -1);
+    if (kept.empty())
+      for (int i = 0; i < size; ++i) reduced[i] = i;
+    for (size_t i = 0; i < kept.size(); ++i) reduced[kept[i]] = static_cast<int>(i);
+    return reduced;
+  };
+  reduced_row_ = inverse(kept_residuals_, full_residuals_);
+  reduced_column_ = inverse(kept_unknowns_, full_unknowns_);
+  tangent_samples_.assign(slots_.size(), Eigen::VectorXd(M_));
+  // Which (equation, unknown variable) blocks are nonzero: a condensed
+  // variable's slots land on its source's columns.
+  std::vector<std::pair<int, int>> blocks;
+  int equations = 0, variables = 0;
+  for (const CompiledEquation& eq : equations_) {
+    if (eq.first_row < 0) continue;
+    for (int slot : eq.slots) {
+      const int j = slots_[slot].variable;
+      blocks.emplace_back(equations, definitions_[j].source >= 0 ? definitions_[j].source : j);
+    }
+    ++equations;
+  }
+  for (int j = 0; j < n_; ++j) variables += column_[j] >= 0;
+  std::sort(blocks.begin(), blocks.end());
+  blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+  if (equations > 0 && variables > 0) density_ = double(blocks.size()) / (double(equations) * variables);
 }
 
 void CollocationResidual::SetUpSymmetries() {
@@ -196,23 +226,36 @@ void CollocationResidual::Expand(const Eigen::VectorXd& x, Eigen::VectorXd* full
   }
 }
 
+bool CollocationResidual::ChainColumn(int j, int c, const std::vector<double>& rates, int* column,
+                                      double* factor) const {
+  if (column_[j] >= 0) {
+    *column = column_[j] + c;
+    *factor = 1;
+    return true;
+  }
+  // dB/dA = ratio D(w): cos_k <- rate sin_k, sin_k <- -rate cos_k.
+  if (c == 0) return false;
+  const Definition& d = definitions_[j];
+  const int k = (c + 1) / 2;
+  const double rate = d.ratio * rates[k];
+  *column = column_[d.source] + (c % 2 ? c + 1 : c - 1);
+  *factor = c % 2 ? rate : -rate;
+  return true;
+}
+
 void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
                                            const Eigen::Ref<const Eigen::MatrixXd>& block, int j,
                                            const Eigen::VectorXd& X) const {
   const int rows = static_cast<int>(block.rows());
-  if (column_[j] >= 0) {
-    J->block(row, column_[j], rows, C_) += block;
-    return;
-  }
-  // dB/dA = ratio D(w): cos_k <- rate sin_k, sin_k <- -rate cos_k.
+  int column = 0;
+  double factor = 0;
+  for (int c = 0; c < C_; ++c)
+    if (ChainColumn(j, c, rates_, &column, &factor))
+      J->col(column).segment(row, rows) += factor * block.col(c);
+  if (column_[j] >= 0) return;
+  // The definition's dependence on the unknown frequencies.
   const Definition& d = definitions_[j];
-  const int a = column_[d.source];
   const double* A = X.data() + d.source * C_;
-  for (int k = 1; k < basis_.size(); ++k) {
-    const double rate = d.ratio * rates_[k];
-    J->col(a + 2 * k).segment(row, rows) += rate * block.col(2 * k - 1);
-    J->col(a + 2 * k - 1).segment(row, rows) -= rate * block.col(2 * k);
-  }
   for (int b = 0; b < basis_.num_bases(); ++b) {
     if (unknown_index_[b] < 0) continue;
     auto column = J->col(FrequencyColumn(b)).segment(row, rows);
@@ -221,6 +264,204 @@ void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
       if (m != 0) column += m * (A[2 * k] * block.col(2 * k - 1) - A[2 * k - 1] * block.col(2 * k));
     }
   }
+}
+
+template <class RowsOf>
+void CollocationResidual::AddSparseBlock(std::vector<Eigen::Triplet<double>>* triplets,
+                                         RowsOf rows_of, int first,
+                                         const Eigen::Ref<const Eigen::MatrixXd>& block, int j) const {
+  int column = 0;
+  double factor = 0;
+  for (long l = 0; l < block.cols(); ++l) {
+    if (!ChainColumn(j, first + static_cast<int>(l), linearization_.rates, &column, &factor)) continue;
+    const int c = reduced_column_[column];
+    if (c < 0) continue;
+    for (long i = 0; i < block.rows(); ++i) {
+      const int full_row = rows_of(static_cast<int>(i));
+      const int r = full_row >= 0 ? reduced_row_[full_row] : -1;
+      if (r >= 0 && block(i, l) != 0) triplets->emplace_back(r, c, factor * block(i, l));
+    }
+  }
+}
+
+void CollocationResidual::PointValues(const Eigen::VectorXd& X, const std::vector<double>& rates,
+                                      Eigen::VectorXd* z, Eigen::VectorXd* dz) const {
+  z->resize(n_);
+  dz->resize(n_);
+  for (int j = 0; j < n_; ++j) {
+    const double* c = X.data() + j * C_;
+    (*z)(j) = c[0];
+    (*dz)(j) = 0;
+    for (int k = 1; k < basis_.size(); ++k) {
+      (*z)(j) += c[2 * k - 1];
+      (*dz)(j) += rates[k] * c[2 * k];
+    }
+  }
+}
+
+bool CollocationResidual::Linearize(const Eigen::VectorXd& x, Eigen::VectorXd* residual) {
+  if (!Evaluate(x, residual, nullptr)) return false;
+  // Evaluate sampled every slot at x (SampleSlots): keep the partials.
+  Linearization& lin = linearization_;
+  lin.X = Layout(x);
+  lin.rates = rates_;
+  lin.partials.assign(equations_.size(), {});
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    if (eq.first_row < 0) continue;
+    for (int slot : eq.slots) {
+      lin.partials[i].emplace_back(M_);
+      EvaluateSamples(eq, slot, lin.partials[i].back().data());
+    }
+  }
+  lin.gz.clear();
+  lin.gdz.clear();
+  Eigen::VectorXd z, dz;
+  PointValues(lin.X, lin.rates, &z, &dz);
+  for (const auto& cond : problem_.conditions) {
+    lin.gz.push_back(Eigen::VectorXd::Zero(n_));
+    lin.gdz.push_back(Eigen::VectorXd::Zero(n_));
+    cond.function(z, dz, &lin.gz.back(), &lin.gdz.back());
+  }
+  return true;
+}
+
+void CollocationResidual::ApplyJacobian(const Eigen::VectorXd& v, Eigen::VectorXd* product) {
+  const Linearization& lin = linearization_;
+  // v (reduced) -> the condensed layout -> dX on the full layout, with the
+  // defined variables' tangent d(ratio D(w) A) = ratio (D(w) dA + D(dw) A).
+  Eigen::VectorXd condensed = Eigen::VectorXd::Zero(full_unknowns_);
+  for (int i = 0; i < num_unknowns_; ++i) condensed(kept_unknowns_.empty() ? i : kept_unknowns_[i]) = v(i);
+  const int nu = layout_size_ - n_ * C_;
+  Eigen::VectorXd dX = Eigen::VectorXd::Zero(layout_size_);
+  dX.tail(nu) = condensed.tail(nu);
+  std::vector<double> dw(problem_.frequencies.size(), 0.0), drates(basis_.size());
+  for (int b = 0; b < basis_.num_bases(); ++b)
+    if (unknown_index_[b] >= 0) dw[b] = dX(n_ * C_ + unknown_index_[b]);
+  for (int k = 0; k < basis_.size(); ++k) drates[k] = basis_.Frequency(k, dw);
+  // d(D(w) A) at coefficient pair k: rate dA + drate A, rotated.
+  auto derivative_tangent = [&](const double* A, const double* dA, double ratio, double* out) {
+    out[0] = 0;
+    for (int k = 1; k < basis_.size(); ++k) {
+      out[2 * k - 1] = ratio * (lin.rates[k] * dA[2 * k] + drates[k] * A[2 * k]);
+      out[2 * k] = -ratio * (lin.rates[k] * dA[2 * k - 1] + drates[k] * A[2 * k - 1]);
+    }
+  };
+  for (int j = 0; j < n_; ++j)
+    if (column_[j] >= 0) dX.segment(j * C_, C_) = condensed.segment(column_[j], C_);
+  for (int j = 0; j < n_; ++j) {
+    const Definition& d = definitions_[j];
+    if (d.source >= 0)
+      derivative_tangent(lin.X.data() + d.source * C_, dX.data() + d.source * C_, d.ratio,
+                         dX.data() + j * C_);
+  }
+  for (size_t s = 0; s < slots_.size(); ++s) {
+    const int j = slots_[s].variable;
+    if (slots_[s].derivative == 0) {
+      transform_->Synthesize(dX.data() + j * C_, tangent_samples_[s].data());
+    } else {
+      derivative_tangent(lin.X.data() + j * C_, dX.data() + j * C_, 1.0, coef_.data());
+      transform_->Synthesize(coef_.data(), tangent_samples_[s].data());
+    }
+  }
+  Eigen::VectorXd& full = tangent_residual_;
+  full.setZero(full_residuals_);
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    if (eq.first_row < 0) continue;
+    work_.setZero();
+    for (size_t q = 0; q < eq.slots.size(); ++q)
+      work_.array() += lin.partials[i][q].array() * tangent_samples_[eq.slots[q]].array();
+    transform_->Project(work_.data(), proj_.data());
+    const int rows = eq.balance_constant ? C_ : C_ - 1;
+    full.segment(eq.first_row, rows) = proj_.tail(rows);
+  }
+  if (!problem_.conditions.empty()) {
+    Eigen::VectorXd z, dz, z_w, dz_w;
+    PointValues(dX, lin.rates, &z, &dz);
+    PointValues(lin.X, drates, &z_w, &dz_w);
+    dz += dz_w;
+    int row = full_residuals_ - static_cast<int>(problem_.conditions.size());
+    for (size_t c = 0; c < problem_.conditions.size(); ++c)
+      full(row++) = lin.gz[c].dot(z) + lin.gdz[c].dot(dz);
+  }
+  product->resize(num_residuals_);
+  for (int r = 0; r < num_residuals_; ++r) (*product)(r) = full(kept_residuals_.empty() ? r : kept_residuals_[r]);
+}
+
+void CollocationResidual::SparseJacobian(double coupling, Eigen::SparseMatrix<double>* jacobian) {
+  const Linearization& lin = linearization_;
+  const int K = basis_.size();
+  const int coupled = coupling >= 1 ? K : std::clamp(static_cast<int>(std::ceil(coupling * K)), 1, K);
+  std::vector<Eigen::Triplet<double>> triplets;
+  const int low_size = 2 * coupled - 1;
+  Eigen::MatrixXd low(low_size, low_size);
+  Eigen::Matrix2d diagonal;
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    if (eq.first_row < 0) continue;
+    const int skip = eq.balance_constant ? 0 : 1;
+    // Coefficient c of the equation is residual row first_row + c - skip.
+    auto rows_from = [&](int first) {
+      return [&eq, skip, first](int r) { return first + r < skip ? -1 : eq.first_row + first + r - skip; };
+    };
+    // The coupled blocks summed per unknown variable first (a condensed
+    // variable's slots land on its source's), then stored once: a third of
+    // the triplets for x, x', x'' of one variable.
+    std::map<int, Eigen::MatrixXd> coupled_blocks;
+    for (size_t q = 0; q < eq.slots.size(); ++q) {
+      const SlotInfo& slot = slots_[eq.slots[q]];
+      transform_->Analyze(lin.partials[i][q].data());
+      const double* rate = slot.derivative ? lin.rates.data() : nullptr;
+      low.setZero();
+      transform_->AddMultiplicationBlock(1.0, rate, 0, coupled, low);
+      const int source = definitions_[slot.variable].source >= 0 ? definitions_[slot.variable].source
+                                                                 : slot.variable;
+      auto [it, fresh] = coupled_blocks.try_emplace(source);
+      if (fresh) it->second.setZero(low_size, low_size);
+      int column = 0;
+      double factor = 0;
+      for (int c = 0; c < low_size; ++c)
+        if (ChainColumn(slot.variable, c, lin.rates, &column, &factor) && column - column_[source] < low_size)
+          it->second.col(column - column_[source]) += factor * low.col(c);
+      for (int k = coupled; k < K; ++k) {
+        diagonal.setZero();
+        transform_->AddMultiplicationBlock(1.0, rate, k, k + 1, diagonal);
+        AddSparseBlock(&triplets, rows_from(2 * k - 1), 2 * k - 1, diagonal, slot.variable);
+      }
+    }
+    for (const auto& [source, block] : coupled_blocks)
+      AddSparseBlock(&triplets, rows_from(0), 0, block, source);
+  }
+  // Point conditions: rows of g_z (z(0) = a_0 + sum a_k) and g_z' (z'(0) =
+  // sum rate_k b_k) per variable.
+  const int first_condition = full_residuals_ - static_cast<int>(problem_.conditions.size());
+  Eigen::MatrixXd g(1, C_);
+  for (size_t c = 0; c < problem_.conditions.size(); ++c)
+    for (int j = 0; j < n_; ++j) {
+      const double gz = lin.gz[c](j), gdz = lin.gdz[c](j);
+      if (gz == 0 && gdz == 0) continue;
+      g(0, 0) = gz;
+      for (int k = 1; k < K; ++k) {
+        g(0, 2 * k - 1) = gz;
+        g(0, 2 * k) = gdz * lin.rates[k];
+      }
+      const int row = first_condition + static_cast<int>(c);
+      AddSparseBlock(&triplets, [row](int) { return row; }, 0, g, j);
+    }
+  // The frequency columns, exact: J e_w by a product (they are dense).
+  Eigen::VectorXd unit = Eigen::VectorXd::Zero(num_unknowns_), column;
+  for (int b = 0; b < basis_.num_bases(); ++b) {
+    if (unknown_index_[b] < 0) continue;
+    const int c = reduced_column_[FrequencyColumn(b)];
+    unit(c) = 1;
+    ApplyJacobian(unit, &column);
+    unit(c) = 0;
+    for (int r = 0; r < num_residuals_; ++r)
+      if (column(r) != 0) triplets.emplace_back(r, c, column(r));
+  }
+  jacobian->resize(num_residuals_, num_unknowns_);
+  jacobian->setFromTriplets(triplets.begin(), triplets.end());
 }
 
 void CollocationResidual::Frequencies(const Eigen::VectorXd& x, std::vector<double>* w) const {
@@ -402,6 +643,32 @@ bool CollocationResidual::SampledPartials(const Eigen::VectorXd& x, Eigen::Matri
   return true;
 }
 
+void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x,
+                                             Eigen::SparseMatrix<double>* value_part,
+                                             Eigen::SparseMatrix<double>* derivative_part) {
+  SampleSlots(Layout(x));
+  std::vector<Eigen::Triplet<double>> value, derivative;
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    for (int s : eq.slots) {
+      EvaluateSamples(eq, s, work_.data());
+      transform_->Analyze(work_.data());
+      block_.setZero();
+      transform_->AddMultiplicationMatrix(1.0, nullptr, block_);
+      const double floor = 1e-14 * block_.cwiseAbs().maxCoeff();
+      auto& part = slots_[s].derivative ? derivative : value;
+      for (int l = 0; l < C_; ++l)
+        for (int k = 0; k < C_; ++k)
+          if (std::abs(block_(k, l)) > floor)
+            part.emplace_back(static_cast<int>(i) * C_ + k, slots_[s].variable * C_ + l, block_(k, l));
+    }
+  }
+  value_part->resize(n_ * C_, n_ * C_);
+  derivative_part->resize(n_ * C_, n_ * C_);
+  value_part->setFromTriplets(value.begin(), value.end());
+  derivative_part->setFromTriplets(derivative.begin(), derivative.end());
+}
+
 bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                        Eigen::MatrixXd* jacobian) {
   SampleSlots(x);
@@ -457,16 +724,8 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
 
   // Point conditions at t = 0: z(0) = a_0 + sum a_k, z'(0) = sum rate_k b_k.
   if (!problem_.conditions.empty()) {
-    Eigen::VectorXd z(n_), dz(n_), gz(n_), gdz(n_);
-    for (int j = 0; j < n_; ++j) {
-      const double* X = x.data() + j * C_;
-      z(j) = X[0];
-      dz(j) = 0;
-      for (int k = 1; k < basis_.size(); ++k) {
-        z(j) += X[2 * k - 1];
-        dz(j) += rates_[k] * X[2 * k];
-      }
-    }
+    Eigen::VectorXd z, dz, gz(n_), gdz(n_);
+    PointValues(x, rates_, &z, &dz);
     int row = full_residuals_ - static_cast<int>(problem_.conditions.size());
     for (const auto& cond : problem_.conditions) {
       gz.setZero();

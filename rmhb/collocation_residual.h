@@ -24,6 +24,7 @@
 #include <vector>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 
 #include "rmhb/definition_check.h"
 #include "rmhb/harmonic_balance_problem.h"
@@ -47,6 +48,21 @@ class CollocationResidual : public NonlinearProblem {
   bool Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                 Eigen::MatrixXd* jacobian) override;
 
+  // Large problems (METHOD.md s.17). Linearize keeps, per equation and
+  // slot, the partial derivative at the samples; J v is then one synthesis
+  // per slot and one projection per equation, O(K log K) with FFTW, exact
+  // (the same J as Evaluate's). SparseJacobian assembles J from the same
+  // partials block by block: the (equation, variable) blocks that are
+  // nonzero, each the Toeplitz-plus-Hankel block of its harmonics, those
+  // beyond the first `coupling` fraction of harmonics by their 2 x 2
+  // diagonal blocks only; the frequency columns are exact products.
+  bool HasLinearization() const override { return true; }
+  bool Linearize(const Eigen::VectorXd& x, Eigen::VectorXd* residual) override;
+  void ApplyJacobian(const Eigen::VectorXd& v, Eigen::VectorXd* product) override;
+  void SparseJacobian(double coupling, Eigen::SparseMatrix<double>* jacobian) override;
+  // Nonzero (equation, variable) blocks over all blocks, after condensation.
+  double JacobianDensity() const override { return density_; }
+
   // Between the solver's vector and [variable][coefficient] + frequencies;
   // Pack drops what the symmetries exclude, Unpack fills it with zeros.
   Eigen::VectorXd Pack(const Eigen::MatrixXd& coefficients,
@@ -69,6 +85,12 @@ class CollocationResidual : public NonlinearProblem {
   // square system of first-order equations (a second derivative, more
   // equations than variables): rmhb/harmonic_monodromy.h integrates it.
   bool SampledPartials(const Eigen::VectorXd& x, Eigen::MatrixXd* value, Eigen::MatrixXd* derivative);
+  // The same as sparse matrices, for Hill's method at large sizes: only
+  // the (equation, variable) blocks that exist, each without the round-off
+  // of its FFT (entries below 1e-14 of the block's largest: a constant
+  // partial gives a diagonal block, not a dense one).
+  void LinearizationParts(const Eigen::VectorXd& x, Eigen::SparseMatrix<double>* value_part,
+                          Eigen::SparseMatrix<double>* derivative_part);
   // Unknowns and residuals before the symmetry reduction.
   int num_full_unknowns() const { return full_unknowns_; }
   int num_full_residuals() const { return full_residuals_; }
@@ -109,6 +131,21 @@ class CollocationResidual : public NonlinearProblem {
   void AddVariableBlock(Eigen::MatrixXd* jacobian, int row,
                         const Eigen::Ref<const Eigen::MatrixXd>& block, int j,
                         const Eigen::VectorXd& X) const;
+  // Where coefficient c of variable j lands among the (condensed) unknowns
+  // and with which factor: itself, or through the definition j = ratio
+  // D(w) source (rates: the basis frequencies at w). False when nothing
+  // depends on it (a defined variable's mean).
+  bool ChainColumn(int j, int c, const std::vector<double>& rates, int* column, double* factor) const;
+  // Sparse J: block (block row i -> full residual row rows_of(i) or -1,
+  // block column l -> coefficient first + l of variable j) into triplets,
+  // through the chain rule, in the reduced indices.
+  template <class RowsOf>
+  void AddSparseBlock(std::vector<Eigen::Triplet<double>>* triplets, RowsOf rows_of, int first,
+                      const Eigen::Ref<const Eigen::MatrixXd>& block, int j) const;
+  // z(0) and z'(0) of every variable of the layout X at the rates given.
+  void PointValues(const Eigen::VectorXd& X, const std::vector<double>& rates, Eigen::VectorXd* z,
+                   Eigen::VectorXd* dz) const;
+  void SetUpLinearAlgebra();
   int FrequencyColumn(int base) const { return frequency_column_ + unknown_index_[base]; }
   // The reduced vector on the full unknowns (x itself without symmetries):
   // the condensed layout when condensing.
@@ -163,6 +200,21 @@ class CollocationResidual : public NonlinearProblem {
   std::vector<Eigen::MatrixXd> pointwise_values_;
   std::vector<double> pointwise_in_, pointwise_out_;
   std::vector<double> sample_phase_;  // 2 pi s / M of base 1, per sample
+  // Kept by Linearize: the layout X, the rates at its frequencies, the
+  // partials [equation][slot of eq.slots] at the samples, the point
+  // conditions' gradients at t = 0.
+  struct Linearization {
+    Eigen::VectorXd X;
+    std::vector<double> rates;
+    std::vector<std::vector<Eigen::VectorXd>> partials;
+    std::vector<Eigen::VectorXd> gz, gdz;
+  };
+  Linearization linearization_;
+  std::vector<Eigen::VectorXd> tangent_samples_;
+  Eigen::VectorXd tangent_residual_;
+  // Full index -> reduced index, -1 where a symmetry drops it.
+  std::vector<int> reduced_row_, reduced_column_;
+  double density_ = 1;
 };
 
 }  // namespace rmhb

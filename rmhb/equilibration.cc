@@ -1,5 +1,6 @@
 #include "rmhb/equilibration.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -36,22 +37,22 @@ Equilibration IdentityEquilibration(int rows, int columns) {
   return {Eigen::VectorXd::Ones(rows), Eigen::VectorXd::Ones(columns), 0};
 }
 
-Equilibration Equilibrate(const Eigen::MatrixXd& J, int max_sweeps) {
-  const Eigen::Index m = J.rows(), n = J.cols();
+namespace {
+
+// Ruiz's sweeps over J's entries, visited column by column by
+// for_each_entry(visit(i, j, a_ij)): one pass for both norms per sweep.
+template <class ForEachEntry>
+Equilibration Sweeps(Eigen::Index m, Eigen::Index n, int max_sweeps, ForEachEntry for_each_entry) {
   Equilibration e = IdentityEquilibration(static_cast<int>(m), static_cast<int>(n));
   Eigen::VectorXd row_max(m), column_max(n);
   for (e.sweeps = 0; e.sweeps < max_sweeps;) {
     row_max.setZero();
-    // Column-major order: one pass over J for both norms.
-    for (Eigen::Index j = 0; j < n; ++j) {
-      double column = 0;
-      for (Eigen::Index i = 0; i < m; ++i) {
-        const double a = std::abs(J(i, j)) * e.row(i) * e.column(j);
-        column = std::max(column, a);
-        row_max(i) = std::max(row_max(i), a);
-      }
-      column_max(j) = column;
-    }
+    column_max.setZero();
+    for_each_entry([&](Eigen::Index i, Eigen::Index j, double value) {
+      const double a = std::abs(value) * e.row(i) * e.column(j);
+      column_max(j) = std::max(column_max(j), a);
+      row_max(i) = std::max(row_max(i), a);
+    });
     bool changed = false;
     for (Eigen::Index i = 0; i < m; ++i) {
       const double f = InverseSqrtPowerOfTwo(row_max(i));
@@ -65,6 +66,23 @@ Equilibration Equilibrate(const Eigen::MatrixXd& J, int max_sweeps) {
     ++e.sweeps;
   }
   return e;
+}
+
+}  // namespace
+
+Equilibration Equilibrate(const Eigen::MatrixXd& J, int max_sweeps) {
+  return Sweeps(J.rows(), J.cols(), max_sweeps, [&](auto visit) {
+    for (Eigen::Index j = 0; j < J.cols(); ++j)
+      for (Eigen::Index i = 0; i < J.rows(); ++i) visit(i, j, J(i, j));
+  });
+}
+
+Equilibration Equilibrate(const Eigen::SparseMatrix<double>& J, int max_sweeps) {
+  return Sweeps(J.rows(), J.cols(), max_sweeps, [&](auto visit) {
+    for (Eigen::Index j = 0; j < J.outerSize(); ++j)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(J, j); it; ++it)
+        visit(it.row(), it.col(), it.value());
+  });
 }
 
 }  // namespace rmhb

@@ -24,6 +24,7 @@
 // is O(mn), negligible beside the O(n^3) factorisation it precedes.
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 
 namespace rmhb {
 
@@ -38,6 +39,8 @@ struct Equilibration {
 // and column max of D_r J D_c is in [1/2, 2)), or after max_sweeps (then
 // nearly so).
 Equilibration Equilibrate(const Eigen::MatrixXd& J, int max_sweeps = 20);
+// The same for a sparse J (its stored entries).
+Equilibration Equilibrate(const Eigen::SparseMatrix<double>& J, int max_sweeps = 20);
 
 // D_r = D_c = I: the unscaled problem, through the same code path.
 Equilibration IdentityEquilibration(int rows, int columns);

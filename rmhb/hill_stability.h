@@ -15,6 +15,14 @@
 // do not depend on which copy is kept, which is what makes them comparable
 // with the monodromy matrix of an integration (integrators/floquet.h).
 //
+// Large sizes (METHOD.md s.17): the dense QZ costs O((nC)^3) (17 minutes
+// for 80 states at N = 25), so above HillOptions::dense_limit rows the
+// exponents nearest the imaginary axis come from shift-invert Arnoldi
+// (Spectra) on the sparse Hill matrices, factorised by UMFPACK: the
+// eigenvalues of (J + sigma B)^-1 (-B) of largest modulus are the lambda
+// nearest sigma (a small real shift), i.e. the central copies, found until
+// one per differential state survives the same centroid selection.
+//
 // Scope: periodic solutions (one base frequency) of systems whose equations
 // all balance their constant term. A recast auxiliary pinned at t = 0
 // (s' = c v for s = sin(theta)) carries a free constant of integration, which
@@ -30,10 +38,17 @@
 
 namespace rmhb {
 
+enum class HillEigensolver { kAuto, kDense, kShiftInvert };
+const char* ToString(HillEigensolver eigensolver);  // "auto", "dense", "shift-invert"
+
 struct HillOptions {
   // |Re lambda| below margin * w is neither growth nor decay that a
   // truncated, round-off limited eigenproblem can tell apart: not stable.
   double margin = 1e-9;
+  // kAuto: the dense QZ up to dense_limit rows of the Hill matrix (states x
+  // coefficients), shift-invert above.
+  HillEigensolver eigensolver = HillEigensolver::kAuto;
+  int dense_limit = 600;
 };
 
 struct HillStabilityReport {
@@ -46,7 +61,9 @@ struct HillStabilityReport {
   int trivial = -1;                                // index of the trivial exponent, or -1
   double max_real_part = 0;                        // over non-trivial exponents
   bool stable = false;                             // every non-trivial Re lambda < -margin w
-  int eigenvalues = 0;                             // finite eigenvalues of the Hill problem
+  int eigenvalues = 0;                             // finite eigenvalues of the Hill problem computed
+  HillEigensolver eigensolver = HillEigensolver::kDense;  // the one used
+  int size = 0;                                    // rows of the Hill matrix
   int order = 0;
   double seconds = 0;
 

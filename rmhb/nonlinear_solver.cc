@@ -1,16 +1,181 @@
 #include "rmhb/nonlinear_solver.h"
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
+#include <Eigen/UmfPackSupport>
+#include <unsupported/Eigen/IterativeSolvers>
+
 #include "rmhb/dense_factorization.h"
 #include "rmhb/equilibration.h"
 
 namespace rmhb {
+namespace krylov {
+class ScaledJacobian;
+}  // namespace krylov
+}  // namespace rmhb
+
+template <>
+struct Eigen::internal::traits<rmhb::krylov::ScaledJacobian>
+    : public Eigen::internal::traits<Eigen::SparseMatrix<double>> {};
+
+namespace rmhb {
+namespace krylov {
+
+// The Newton matrix J_s = D_r J D_c as a matrix-free operator for Eigen's
+// GMRES: every product is one NonlinearProblem::ApplyJacobian (for the
+// harmonic balance, a few FFTs: O(K log K), METHOD.md s.17). The
+// boilerplate is Eigen's documented way to give its iterative solvers a
+// matrix-free operator ("Matrix-free solvers" in Eigen's manual).
+class ScaledJacobian : public Eigen::EigenBase<ScaledJacobian> {
+ public:
+  using Scalar = double;
+  using RealScalar = double;
+  using StorageIndex = int;
+  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
+
+  ScaledJacobian(NonlinearProblem& problem, const Eigen::VectorXd& row, const Eigen::VectorXd& column)
+      : problem_(&problem), row_(&row), column_(&column) {}
+  Eigen::Index rows() const { return row_->size(); }
+  Eigen::Index cols() const { return column_->size(); }
+  template <class Rhs>
+  Eigen::Product<ScaledJacobian, Rhs, Eigen::AliasFreeProduct> operator*(
+      const Eigen::MatrixBase<Rhs>& x) const {
+    return Eigen::Product<ScaledJacobian, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
+  }
+  void Apply(const Eigen::VectorXd& y, Eigen::VectorXd* out) const {
+    problem_->ApplyJacobian(column_->cwiseProduct(y), out);
+    *out = row_->cwiseProduct(*out);
+  }
+
+ private:
+  NonlinearProblem* problem_;
+  const Eigen::VectorXd* row_;
+  const Eigen::VectorXd* column_;
+};
+
+// The preconditioner: the UMFPACK LU of the scaled, coarsened Jacobian,
+// factorised by the solver before GMRES starts (compute() has nothing to do).
+class LuPreconditioner {
+ public:
+  using Lu = Eigen::UmfPackLU<Eigen::SparseMatrix<double>>;
+  LuPreconditioner() = default;
+  void set(const Lu* lu) { lu_ = lu; }
+  template <class MatrixType>
+  LuPreconditioner& compute(const MatrixType&) { return *this; }
+  template <class MatrixType>
+  LuPreconditioner& analyzePattern(const MatrixType&) { return *this; }
+  template <class MatrixType>
+  LuPreconditioner& factorize(const MatrixType&) { return *this; }
+  template <class Rhs>
+  Eigen::VectorXd solve(const Eigen::MatrixBase<Rhs>& b) const { return lu_->solve(b.eval()); }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+
+ private:
+  const Lu* lu_ = nullptr;
+};
+
+}  // namespace krylov
+}  // namespace rmhb
+
+namespace Eigen {
+namespace internal {
+template <class Rhs>
+struct generic_product_impl<rmhb::krylov::ScaledJacobian, Rhs, SparseShape, DenseShape, GemvProduct>
+    : generic_product_impl_base<rmhb::krylov::ScaledJacobian, Rhs,
+                                generic_product_impl<rmhb::krylov::ScaledJacobian, Rhs>> {
+  template <class Dest>
+  static void scaleAndAddTo(Dest& dst, const rmhb::krylov::ScaledJacobian& lhs, const Rhs& rhs,
+                            const double& alpha) {
+    Eigen::VectorXd product;
+    lhs.Apply(rhs, &product);
+    dst += alpha * product;
+  }
+};
+}  // namespace internal
+}  // namespace Eigen
+
+namespace rmhb {
+
+bool NonlinearProblem::Linearize(const Eigen::VectorXd&, Eigen::VectorXd*) {
+  throw std::logic_error("NonlinearProblem::Linearize: this problem has no large-problem interface");
+}
+void NonlinearProblem::ApplyJacobian(const Eigen::VectorXd&, Eigen::VectorXd*) {
+  throw std::logic_error("NonlinearProblem::ApplyJacobian: this problem has no large-problem interface");
+}
+void NonlinearProblem::SparseJacobian(double, Eigen::SparseMatrix<double>*) {
+  throw std::logic_error("NonlinearProblem::SparseJacobian: this problem has no large-problem interface");
+}
+
+double PeakMemoryBytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return 1024.0 * static_cast<double>(usage.ru_maxrss);  // Linux: KiB
+}
+
 namespace {
+
+// The Jacobian in the form the linear solver needs: dense, or (sparse,
+// Krylov) the problem's kept linearisation and its sparse J, exact or
+// coarsened into the preconditioner. Krylov steps always use the current
+// linearisation (exact products: Newton's convergence), but the
+// preconditioner is rebuilt only when GMRES needed more than
+// krylov_rebuild_iterations with the old one: at a few thousand unknowns
+// its LU costs far more than the products (METHOD.md s.17).
+class Jacobian {
+ public:
+  Jacobian(NonlinearProblem& problem, LinearSolver kind, const SolverOptions& options)
+      : problem_(problem),
+        kind_(kind),
+        coupling_(kind != LinearSolver::kKrylov
+                      ? 1.0
+                      : std::min(options.krylov_coupling,
+                                 double(options.krylov_max_coupled) / std::max(1, problem.num_unknowns()))),
+        rebuild_iterations_(options.krylov_rebuild_iterations) {}
+  LinearSolver kind() const { return kind_; }
+  bool dense_form() const { return kind_ == LinearSolver::kDense; }
+  // F and J at x; false when either is not finite (or x not admissible).
+  bool Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* F) {
+    if (dense_form()) {
+      dense_.resize(problem_.num_residuals(), problem_.num_unknowns());
+      return problem_.Evaluate(x, F, &dense_) && F->allFinite() && dense_.allFinite();
+    }
+    if (!problem_.Linearize(x, F) || !F->allFinite()) return false;
+    if (kind_ == LinearSolver::kKrylov && built_ && last_iterations_ <= rebuild_iterations_) return true;
+    problem_.SparseJacobian(coupling_, &sparse_);
+    built_ = true;
+    ++version_;
+    return Eigen::Map<const Eigen::VectorXd>(sparse_.valuePtr(), sparse_.nonZeros()).allFinite();
+  }
+  // Of the dense J, the sparse J or the preconditioner (kept with it).
+  Equilibration Equilibrate() {
+    if (dense_form()) return rmhb::Equilibrate(dense_);
+    if (scaled_version_ != version_) scaling_ = rmhb::Equilibrate(sparse_), scaled_version_ = version_;
+    return scaling_;
+  }
+  const Eigen::MatrixXd& dense() const { return dense_; }
+  const Eigen::SparseMatrix<double>& sparse() const { return sparse_; }
+  // Changes whenever sparse() does.
+  int version() const { return version_; }
+  NonlinearProblem& problem() const { return problem_; }
+  void ReportIterations(int iterations) { last_iterations_ = iterations; }
+
+ private:
+  NonlinearProblem& problem_;
+  LinearSolver kind_;
+  double coupling_;
+  int rebuild_iterations_;
+  Eigen::MatrixXd dense_;
+  Eigen::SparseMatrix<double> sparse_;
+  bool built_ = false;
+  int version_ = 0, scaled_version_ = -1, last_iterations_ = 0;
+  Equilibration scaling_;
+};
 
 double MaxAbs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
@@ -29,7 +194,31 @@ double DiagonalRatio(const Eigen::VectorXd& d) {
 // storage, so scaling costs no extra copy of J.
 class NewtonFactorization {
  public:
+  explicit NewtonFactorization(const SolverOptions& options) : options_(options) {}
+  void Factor(Jacobian& jacobian, const Equilibration& e, bool scaled) {
+    kind_ = jacobian.kind();
+    if (kind_ == LinearSolver::kDense) return Factor(jacobian.dense(), e, scaled);
+    jacobian_ = &jacobian;
+    if (jacobian.version() == factored_version_) return;  // the preconditioner is kept
+    factored_version_ = jacobian.version();
+    // Sparse and Krylov: square systems only (checked before the solve).
+    square_ = true;
+    row_ = e.row;
+    column_ = e.column;
+    scaled_ = scaled;
+    estimated_ = false;
+    const Eigen::SparseMatrix<double>& J = jacobian.sparse();
+    // UMFPACK's solves read the matrix again: it lives as long as the LU.
+    sparse_scaled_ = row_.asDiagonal() * J * column_.asDiagonal();
+    // No iterative refinement: Newton (and GMRES) correct the step anyway,
+    // and UMFPACK's default two refinement sweeps tripled the cost of every
+    // preconditioner application.
+    sparse_lu_.umfpackControl()(UMFPACK_IRSTEP) = 0;
+    sparse_lu_.compute(sparse_scaled_);
+    sparse_failed_ = sparse_lu_.info() != Eigen::Success;
+  }
   void Factor(const Eigen::MatrixXd& J, const Equilibration& e, bool scaled) {
+    kind_ = LinearSolver::kDense;
     square_ = J.rows() == J.cols();
     // Least squares keeps the model's row weights (see SolverOptions::scaling):
     // the QR of J D_c has J's Q and R D_c, so only the columns are scaled.
@@ -56,10 +245,17 @@ class NewtonFactorization {
   const Eigen::VectorXd& row() const { return row_; }
   const Eigen::VectorXd& column() const { return column_; }
   // The scaled Newton step y for the residual F (unscaled).
-  Eigen::VectorXd Step(const Eigen::VectorXd& F) const {
+  // Krylov: GMRES to the relative `tolerance` (inexact Newton).
+  Eigen::VectorXd Step(const Eigen::VectorXd& F, double tolerance = 0) {
     const Eigen::VectorXd b = row_.cwiseProduct(F);
-    return square_ ? Eigen::VectorXd(-lu_.solve(b)) : Eigen::VectorXd(-qr_.solve(b));
+    if (kind_ == LinearSolver::kDense)
+      return square_ ? Eigen::VectorXd(-lu_.solve(b)) : Eigen::VectorXd(-qr_.solve(b));
+    if (sparse_failed_) return Eigen::VectorXd::Constant(b.size(), NAN);
+    if (kind_ == LinearSolver::kSparse) return -sparse_lu_.solve(b);
+    return -KrylovSolve(b, std::max(tolerance, options_.krylov_tolerance));
   }
+  // GMRES iterations over every Krylov step so far.
+  int linear_iterations() const { return linear_iterations_; }
 
  private:
   // |J^-1|_1 of the unscaled J by Hager's estimator with Higham's extra
@@ -98,9 +294,29 @@ class NewtonFactorization {
     return std::max(estimate, 2 * solve(b).lpNorm<1>() / (3.0 * n));
   }
 
+  // J_s y = b by GMRES (Eigen), preconditioned by the LU of the coarsened
+  // J_s, no restart within krylov_max_iterations (the basis costs n words
+  // per iteration, far below a dense J). Left preconditioned: the test is
+  // on the preconditioned residual.
+  Eigen::VectorXd KrylovSolve(const Eigen::VectorXd& b, double tolerance) {
+    krylov::ScaledJacobian A(jacobian_->problem(), row_, column_);
+    Eigen::GMRES<krylov::ScaledJacobian, krylov::LuPreconditioner> gmres;
+    gmres.setTolerance(tolerance);
+    gmres.setMaxIterations(options_.krylov_max_iterations);
+    gmres.set_restart(options_.krylov_max_iterations);
+    gmres.compute(A);
+    gmres.preconditioner().set(&sparse_lu_);
+    Eigen::VectorXd y = gmres.solve(b);
+    linear_iterations_ += static_cast<int>(gmres.iterations());
+    jacobian_->ReportIterations(static_cast<int>(gmres.iterations()));
+    return y;
+  }
+
   void Estimate() const {
     if (estimated_) return;
     estimated_ = true;
+    // Sparse and Krylov: no estimate (0: not computed).
+    if (kind_ != LinearSolver::kDense) return;
     if (square_) {
       scaled_reciprocal_condition_ = lu_.rcond();
       reciprocal_condition_ = scaled_reciprocal_condition_;
@@ -116,6 +332,14 @@ class NewtonFactorization {
     }
   }
 
+  const SolverOptions& options_;
+  LinearSolver kind_ = LinearSolver::kDense;
+  Eigen::SparseMatrix<double> sparse_scaled_;  // D_r J D_c, sparse J or the preconditioner's
+  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> sparse_lu_;
+  bool sparse_failed_ = false;
+  Jacobian* jacobian_ = nullptr;  // sparse, Krylov: the products, the preconditioner's age
+  int factored_version_ = -1;
+  int linear_iterations_ = 0;
   bool square_ = true, scaled_ = false;
   mutable bool estimated_ = false;
   double norm_ = 0;
@@ -158,6 +382,33 @@ SolverMethod ParseSolverMethod(const std::string& name) {
   throw std::invalid_argument("unknown solver '" + name + "' (expected newton, lm, tikhonov or auto)");
 }
 
+const char* ToString(LinearSolver solver) {
+  switch (solver) {
+    case LinearSolver::kAuto: return "auto";
+    case LinearSolver::kDense: return "dense";
+    case LinearSolver::kSparse: return "sparse";
+    case LinearSolver::kKrylov: return "krylov";
+  }
+  return "?";
+}
+
+LinearSolver ParseLinearSolver(const std::string& name) {
+  if (name == "auto") return LinearSolver::kAuto;
+  if (name == "dense") return LinearSolver::kDense;
+  if (name == "sparse") return LinearSolver::kSparse;
+  if (name == "krylov") return LinearSolver::kKrylov;
+  throw std::invalid_argument("unknown linear solver '" + name +
+                              "' (expected auto, dense, sparse or krylov)");
+}
+
+LinearSolver ChooseLinearSolver(const NonlinearProblem& problem, const SolverOptions& options) {
+  if (options.linear_solver != LinearSolver::kAuto) return options.linear_solver;
+  if (!problem.HasLinearization() || problem.num_residuals() != problem.num_unknowns() ||
+      problem.num_unknowns() <= options.dense_limit)
+    return LinearSolver::kDense;
+  return LinearSolver::kKrylov;
+}
+
 const char* ToString(Scaling s) { return s == Scaling::kNone ? "none" : "equilibrate"; }
 
 Scaling ParseScaling(const std::string& name) {
@@ -190,6 +441,13 @@ std::string SolverOptions::IsValid() const {
     return "max_seconds must be finite and >= 0 (0: no limit)";
   if (fallback_max_iterations < 1) return "fallback_max_iterations must be >= 1";
   if (newton_stall_iterations < 0) return "newton_stall_iterations must be >= 0 (0: never)";
+  if (dense_limit < 0) return "dense_limit must be >= 0";
+  if (!(sparse_density >= 0 && sparse_density <= 1)) return "sparse_density must be in [0, 1]";
+  if (!(krylov_coupling > 0 && krylov_coupling <= 1)) return "krylov_coupling must be in (0, 1]";
+  if (!(krylov_tolerance > 0 && krylov_tolerance < 1)) return "krylov_tolerance must be in (0, 1)";
+  if (krylov_max_iterations < 1) return "krylov_max_iterations must be >= 1";
+  if (krylov_rebuild_iterations < 0) return "krylov_rebuild_iterations must be >= 0";
+  if (krylov_max_coupled < 1) return "krylov_max_coupled must be >= 1";
   return "";
 }
 
@@ -206,6 +464,10 @@ std::string SolverSummary::FullReport() const {
   out << BriefReport() << "\n";
   out << "  unknowns " << num_unknowns << ", residuals " << num_residuals << ", evaluations "
       << evaluations << ", last step " << final_step << "\n";
+  out << "  linear solver " << ToString(linear_solver);
+  if (linear_solver == LinearSolver::kKrylov) out << " (" << linear_iterations << " GMRES iterations)";
+  if (peak_memory_bytes > 0) out << ", peak memory " << peak_memory_bytes / (1 << 20) << " MiB";
+  out << "\n";
   if (scaling == Scaling::kEquilibrate)
     out << "  equilibrated (D_r J D_c, power-of-two Ruiz): scaled max|D_r F| " << scaled_residual
         << "\n";
@@ -230,6 +492,29 @@ SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,
   o.method = SolverMethod::kNewton;
   SolverSummary newton = SolveWith(problem, x, o);
   if (newton.converged() || newton.status == SolverStatus::kInvalidInput) return newton;
+  if (newton.linear_solver == LinearSolver::kKrylov && options.linear_solver == LinearSolver::kAuto &&
+      problem.JacobianDensity() <= options.sparse_density &&
+      !(options.max_seconds > 0 && newton.seconds >= options.max_seconds)) {
+    // A block-sparse J has a direct solver that does not depend on how
+    // well the preconditioner approximates it: Newton again with it.
+    *x = start;
+    o.linear_solver = LinearSolver::kSparse;
+    if (options.max_seconds > 0) o.max_seconds = options.max_seconds - newton.seconds;
+    SolverSummary sparse = SolveWith(problem, x, o);
+    sparse.iterations += newton.iterations;
+    sparse.evaluations += newton.evaluations;
+    sparse.linear_iterations += newton.linear_iterations;
+    sparse.seconds += newton.seconds;
+    sparse.message = "Newton-Krylov failed (" + newton.message + "); sparse LU: " +
+                     (sparse.message.empty() ? std::string("converged") : sparse.message);
+    return sparse;
+  }
+  if (newton.linear_solver != LinearSolver::kDense) {
+    // Levenberg-Marquardt works on a dense J'J: not at this size.
+    newton.message = "Newton failed (" + newton.message + "); no Levenberg-Marquardt fallback with the " +
+                     ToString(newton.linear_solver) + " linear solver (it needs a dense J)";
+    return newton;
+  }
   if (options.max_seconds > 0 && newton.seconds >= options.max_seconds) {
     std::ostringstream msg;
     msg << "Newton failed (" << newton.message << "); the time budget of " << options.max_seconds
@@ -259,7 +544,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   s.num_unknowns = problem.num_unknowns();
   s.num_residuals = problem.num_residuals();
   s.scaling = options.scaling;
-  NewtonFactorization factorization;
+  NewtonFactorization factorization(options);
   bool ever_factored = false;
   auto finish = [&](SolverStatus status, std::string message) {
     // The last factorised Jacobian's condition, also when failing.
@@ -269,6 +554,8 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     }
     s.status = status;
     s.message = std::move(message);
+    s.linear_iterations = factorization.linear_iterations();
+    s.peak_memory_bytes = PeakMemoryBytes();
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;
   };
@@ -289,11 +576,25 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
 
   const SolverMethod method = options.method;
   s.method = method;
+  // The regularised methods work on J'J: dense.
+  s.linear_solver = method == SolverMethod::kNewton ? ChooseLinearSolver(problem, options)
+                                                     : LinearSolver::kDense;
+  if (s.linear_solver != LinearSolver::kDense) {
+    if (!problem.HasLinearization())
+      return finish(SolverStatus::kInvalidInput,
+                    std::string("linear solver ") + ToString(s.linear_solver) +
+                        ": this problem offers no Jacobian products or sparse Jacobian; use dense");
+    if (s.num_residuals != s.num_unknowns)
+      return finish(SolverStatus::kInvalidInput,
+                    std::string("linear solver ") + ToString(s.linear_solver) + " needs a square system (" +
+                        std::to_string(s.num_residuals) + " equations for " +
+                        std::to_string(s.num_unknowns) + " unknowns); use dense");
+  }
+  Jacobian J(problem, s.linear_solver, options);
 
   Eigen::VectorXd F(s.num_residuals), Ftrial(s.num_residuals), xtrial;
-  Eigen::MatrixXd J(s.num_residuals, s.num_unknowns);
   ++s.evaluations;
-  if (!problem.Evaluate(*x, &F, &J) || !Finite(F) || !J.allFinite()) {
+  if (!J.Evaluate(*x, &F)) {
     s.initial_residual = s.final_residual = s.scaled_residual = INFINITY;
     return finish(SolverStatus::kFailure, "the initial guess gives non-finite residuals");
   }
@@ -303,7 +604,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   Equilibration scaling = IdentityEquilibration(s.num_residuals, s.num_unknowns);
   bool stale = true;  // J changed since `scaling` was computed
   auto rescale = [&] {
-    if (scaled && stale) scaling = Equilibrate(J);
+    if (scaled && stale) scaling = J.Equilibrate();
     stale = false;
   };
   auto scaled_norm = [&](const Eigen::VectorXd& residual) {
@@ -377,7 +678,11 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         factored = true;
         chord = false;
       }
-      Eigen::VectorXd y = factorization.Step(F);
+      // Inexact Newton (Eisenstat & Walker, SIAM J. Sci. Comput. 17, 1996):
+      // a Krylov step need not be more accurate than the residual is small;
+      // quadratic convergence survives with a forcing term ~ |F|.
+      const double forcing = std::min(1e-4, norm / residual_scale());
+      Eigen::VectorXd y = factorization.Step(F, forcing);
       if (!Finite(y)) return finish(SolverStatus::kFailure, "singular Jacobian (Newton step is not finite); try --solver lm");
       // Damping by Deuflhard's natural monotonicity test: accept x + t dx
       // when the simplified Newton correction |J^-1 F(x + t dx)| shrinks by
@@ -395,7 +700,9 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         xtrial = *x + t * dx;
         ++s.evaluations;
         if (problem.Evaluate(xtrial, &Ftrial, nullptr) && Finite(Ftrial)) {
-          const double simplified = factorization.column().cwiseProduct(factorization.Step(Ftrial)).norm();
+          // Only the norm of the simplified correction matters: 1e-3 will do.
+          const double simplified =
+              factorization.column().cwiseProduct(factorization.Step(Ftrial, std::max(forcing, 1e-3))).norm();
           if (simplified <= (1 - 0.25 * t) * y_norm) {
             accepted = true;
             dx *= t;
@@ -408,7 +715,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
       if (!accepted && chord) {
         // Retry this iteration with a fresh Jacobian at the same point.
         ++s.evaluations;
-        problem.Evaluate(*x, &F, &J);
+        J.Evaluate(*x, &F);
         stale = true;
         factored = false;
         --s.iterations;
@@ -429,7 +736,10 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         // Shamanskii steps); otherwise refresh the Jacobian at the new point.
         const double trial = scaled_norm(Ftrial);
         const double ratio = trial / std::max(norm, 1e-300);
-        if (ratio < options.chord_contraction &&
+        // Krylov: a fresh linearisation costs a residual evaluation (its
+        // preconditioner is kept, see Jacobian), so every step is a full
+        // Newton step.
+        if (J.kind() != LinearSolver::kKrylov && ratio < options.chord_contraction &&
             trial > options.residual_tolerance * residual_scale()) {
           chord = true;
         } else {
@@ -444,7 +754,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
       const Eigen::VectorXd weights = s.num_residuals == s.num_unknowns
                                           ? scaling.row
                                           : Eigen::VectorXd::Ones(s.num_residuals);
-      const Eigen::MatrixXd Js = weights.asDiagonal() * J * scaling.column.asDiagonal();
+      const Eigen::MatrixXd Js = weights.asDiagonal() * J.dense() * scaling.column.asDiagonal();
       const Eigen::VectorXd Fs = weights.cwiseProduct(F);
       const Eigen::MatrixXd JtJ = Js.transpose() * Js;
       const Eigen::VectorXd JtF = Js.transpose() * Fs;
@@ -496,7 +806,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     } else {
       ++s.evaluations;
       stale = true;
-      if (!problem.Evaluate(*x, &F, &J) || !Finite(F) || !J.allFinite())
+      if (!J.Evaluate(*x, &F))
         return finish(SolverStatus::kFailure, "non-finite residual or Jacobian during iteration");
     }
     trial_norm = scaled_norm(F);
@@ -532,7 +842,8 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     s.reciprocal_condition = factorization.reciprocal_condition();
     s.scaled_reciprocal_condition = factorization.scaled_reciprocal_condition();
   }
-  if (s.reciprocal_condition == 0 && (method != SolverMethod::kNewton || s.iterations == 0)) {
+  if (s.reciprocal_condition == 0 && J.dense_form() &&
+      (method != SolverMethod::kNewton || s.iterations == 0)) {
     // Converged at the start (a warm start from a lower order), or a
     // regularised method that never factorised J itself: J is the final
     // Jacobian and the summary still owes its condition (one factorisation,
@@ -543,9 +854,9 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
     s.reciprocal_condition = factorization.reciprocal_condition();
     s.scaled_reciprocal_condition = factorization.scaled_reciprocal_condition();
   }
-  if (options.estimate_condition) {
-    if (method == SolverMethod::kNewton && factored) problem.Evaluate(*x, &F, &J);
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
+  if (options.estimate_condition && J.dense_form()) {
+    if (method == SolverMethod::kNewton && factored) J.Evaluate(*x, &F);
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(J.dense());
     const auto& sv = svd.singularValues();
     s.condition_estimate = sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : INFINITY;
   }

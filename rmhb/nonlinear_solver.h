@@ -40,6 +40,7 @@
 #include <vector>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 
 namespace rmhb {
 
@@ -52,6 +53,25 @@ class NonlinearProblem {
   // when the point is not admissible (non-finite values).
   virtual bool Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                         Eigen::MatrixXd* jacobian) = 0;
+
+  // Large problems (METHOD.md s.17), optional: a problem that can keep its
+  // linearisation about x offers exact Jacobian-vector products and its
+  // Jacobian as a sparse matrix, exact or coarsened, so that Newton needs
+  // no dense J (LinearSolver::kSparse, kKrylov).
+  virtual bool HasLinearization() const { return false; }
+  // F(x), keeping the linearisation about x for the two calls below (a
+  // later Evaluate does not disturb it). False when not admissible.
+  virtual bool Linearize(const Eigen::VectorXd& x, Eigen::VectorXd* residual);
+  // J v at the kept linearisation.
+  virtual void ApplyJacobian(const Eigen::VectorXd& v, Eigen::VectorXd* product);
+  // J at the kept linearisation; with coupling < 1 a coarsened J that keeps
+  // the full coupling only among the first `coupling` fraction of each
+  // unknown's modes (the rest: their diagonal blocks), the Krylov
+  // preconditioner. coupling = 1 is the exact J.
+  virtual void SparseJacobian(double coupling, Eigen::SparseMatrix<double>* jacobian);
+  // Fraction of J's entries that can be nonzero (structure only, without
+  // assembling J): what the automatic choice of linear solver reads.
+  virtual double JacobianDensity() const { return 1; }
 };
 
 enum class SolverMethod { kAuto, kNewton, kLevenbergMarquardt, kTikhonov };
@@ -63,6 +83,23 @@ enum class Scaling { kNone, kEquilibrate };
 const char* ToString(Scaling scaling);
 // "none", "equilibrate"; throws std::invalid_argument otherwise.
 Scaling ParseScaling(const std::string& name);
+
+// How Newton solves J dx = -F (METHOD.md s.17). kDense: LAPACK LU (QR when
+// overdetermined); kSparse: the exact sparse J by UMFPACK; kKrylov: GMRES
+// (Eigen) on exact Jacobian-vector products, preconditioned by the UMFPACK
+// LU of a coarsened J. kSparse and kKrylov need a square system and a
+// problem with HasLinearization(). kAuto: dense up to
+// SolverOptions::dense_limit unknowns (and always for a non-square system or
+// a problem without the large-problem interface); above it Krylov, which
+// the README's table shows fastest at every size on both a dense-coupled and
+// a block-tridiagonal J. Should Newton-Krylov fail where J is block-sparse
+// (JacobianDensity() <= sparse_density), Newton runs again with the sparse
+// LU, which does not depend on how good the preconditioner is. The
+// regularised methods (lm, tikhonov) are always dense.
+enum class LinearSolver { kAuto, kDense, kSparse, kKrylov };
+const char* ToString(LinearSolver solver);
+// "auto", "dense", "sparse", "krylov"; throws std::invalid_argument otherwise.
+LinearSolver ParseLinearSolver(const std::string& name);
 
 struct SolverOptions {
   // kAuto: Newton (Gauss-Newton if overdetermined); on failure, Levenberg-
@@ -116,6 +153,25 @@ struct SolverOptions {
   // 10^4 starts halved it at least every 29 iterations. The Monte Carlo sets
   // 40 (MonteCarloOptions::newton_stall_iterations).
   int newton_stall_iterations = 0;
+  // The linear solver of Newton's steps and what kAuto decides on (see
+  // LinearSolver above; the thresholds are where the README's table of time
+  // against unknowns has them cross).
+  LinearSolver linear_solver = LinearSolver::kAuto;
+  int dense_limit = 800;
+  double sparse_density = 0.25;
+  // kKrylov: the preconditioner couples this fraction of the modes fully
+  // (the rest by their diagonal blocks); GMRES stops at this relative
+  // (preconditioned) residual or after this many iterations per step.
+  // At most krylov_max_coupled unknowns are coupled: the LU of a dense
+  // coupled block grows as its cube, the GMRES iterations far slower.
+  double krylov_coupling = 0.0625;
+  int krylov_max_coupled = 1000;
+  double krylov_tolerance = 1e-12;
+  int krylov_max_iterations = 300;
+  // Every Newton step uses the current linearisation's exact products; the
+  // preconditioner (its assembly and LU) is rebuilt only after a GMRES
+  // solve that needed more than this many iterations.
+  int krylov_rebuild_iterations = 40;
   bool estimate_condition = false;  // costs one SVD of the final Jacobian
   bool verbose = false;
   std::string IsValid() const;  // empty when valid, otherwise what is wrong
@@ -162,11 +218,24 @@ struct SolverSummary {
   std::vector<double> residual_history;
   int num_unknowns = 0;
   int num_residuals = 0;
+  // The linear solver Newton used (never kAuto after a solve; kDense for
+  // the regularised methods), the GMRES iterations over all steps (kKrylov),
+  // and the process's peak resident memory at the end of the solve (bytes,
+  // getrusage; 0 where unknown).
+  LinearSolver linear_solver = LinearSolver::kDense;
+  int linear_iterations = 0;
+  double peak_memory_bytes = 0;
 
   bool converged() const { return status == SolverStatus::kConverged; }
   std::string BriefReport() const;
   std::string FullReport() const;
 };
+
+// What kAuto (or the option given) picks for this problem.
+LinearSolver ChooseLinearSolver(const NonlinearProblem& problem, const SolverOptions& options);
+
+// The process's peak resident memory so far, in bytes (0 where unknown).
+double PeakMemoryBytes();
 
 // Solves in place from the initial guess in *x.
 SolverSummary SolveNonlinear(NonlinearProblem& problem, Eigen::VectorXd* x,

@@ -275,23 +275,41 @@ void SpectralTransform::Analyze(const double* samples) {
 
 void SpectralTransform::AddMultiplicationMatrix(double scale, const double* rate,
                                                 Eigen::Ref<Eigen::MatrixXd> out) const {
-  const int K = basis_.size();
+  AddMultiplicationBlock(scale, rate, 0, basis_.size(), out);
+}
+
+void SpectralTransform::AddMultiplicationBlock(double scale, const double* rate, int first,
+                                               int last, Eigen::Ref<Eigen::MatrixXd> out) const {
   int sum[3], diff[3];
   // One angle: the spectrum at every grid index k +- l can reach, gathered
   // once (the general lookup reduces indices modulo the grid per entry,
   // which was 60 % of a Jacobian at N = 55).
+  // Only the indices this block reaches: differences within +-(max - min)
+  // of its grid indices, sums within 2 min .. 2 max (a diagonal block of a
+  // high harmonic needs a handful, not the whole line: the coarsened
+  // Jacobians of METHOD.md s.17 ask for thousands of them).
   const bool line = dims_ == 1;
-  int span = 0;
+  int span = 0, low = 0;
   if (line) {
-    for (int k = 0; k < K; ++k) span = std::max(span, 2 * std::abs(grid_index_[k]));
+    int lowest = grid_index_[first], highest = grid_index_[first];
+    for (int k = first; k < last; ++k) {
+      lowest = std::min(lowest, grid_index_[k]);
+      highest = std::max(highest, grid_index_[k]);
+    }
+    span = highest - lowest;
+    low = 2 * lowest;
     line_spectrum_.resize(2 * span + 1);
+    sum_spectrum_.resize(2 * span + 1);
     for (int g = -span; g <= span; ++g) line_spectrum_[g + span] = SpectrumAt(&g);
+    for (int g = low; g <= low + 2 * span; ++g) sum_spectrum_[g - low] = SpectrumAt(&g);
   }
+  // Coefficient positions in `out`: harmonic k's cos at 2k - 1 - offset.
+  const int offset = first == 0 ? 0 : 2 * first - 1;
   // Column l of E*diag(p)E: product of p with cos/sin of harmonic l, whose
   // component at harmonic k is c = (P[k-l] +- P[k+l]) / 2 (or /2i).
-  for (int l = 0; l < K; ++l) {
+  for (int l = first; l < last; ++l) {
     const int* gl = &grid_index_[l * dims_];
-    for (int k = 0; k < K; ++k) {
+    for (int k = first; k < last; ++k) {
       const int* gk = &grid_index_[k * dims_];
       for (int d = 0; d < dims_; ++d) {
         sum[d] = gk[d] + gl[d];
@@ -302,7 +320,7 @@ void SpectralTransform::AddMultiplicationMatrix(double scale, const double* rate
       if (l == 0) {
         ccos = pd;
       } else {
-        const std::complex<double> ps = line ? line_spectrum_[sum[0] + span] : SpectrumAt(sum);
+        const std::complex<double> ps = line ? sum_spectrum_[sum[0] - low] : SpectrumAt(sum);
         ccos = 0.5 * (pd + ps);
         csin = std::complex<double>(0, -0.5) * (pd - ps);
       }
@@ -312,17 +330,17 @@ void SpectralTransform::AddMultiplicationMatrix(double scale, const double* rate
         if (k == 0) {
           out(0, col) += w * c.real();
         } else {
-          out(2 * k - 1, col) += w * 2.0 * c.real();
-          out(2 * k, col) += w * -2.0 * c.imag();
+          out(2 * k - 1 - offset, col) += w * 2.0 * c.real();
+          out(2 * k - offset, col) += w * -2.0 * c.imag();
         }
       };
       if (!rate) {
-        put(l == 0 ? 0 : 2 * l - 1, ccos, scale);
-        if (l > 0) put(2 * l, csin, scale);
+        put(l == 0 ? 0 : 2 * l - 1 - offset, ccos, scale);
+        if (l > 0) put(2 * l - offset, csin, scale);
       } else if (l > 0) {
         // d/dt(a cos) = -rate a sin; d/dt(b sin) = rate b cos.
-        put(2 * l - 1, csin, -scale * rate[l]);
-        put(2 * l, ccos, scale * rate[l]);
+        put(2 * l - 1 - offset, csin, -scale * rate[l]);
+        put(2 * l - offset, ccos, scale * rate[l]);
       }
     }
   }

@@ -65,6 +65,13 @@ class SpectralTransform {
   // cos -> -rate sin, sin -> rate cos, constant -> 0. This is E* diag(p) E D.
   void AddMultiplicationMatrix(double scale, const double* derivative_rates,
                                Eigen::Ref<Eigen::MatrixXd> out) const;
+  // The same restricted to the basis harmonics [first, last) (rows and
+  // columns both): out is the block of their coefficients, the constant (if
+  // first = 0) then cos, sin per harmonic. Sparse Jacobians and their
+  // preconditioners (METHOD.md s.17) take the low harmonics' block and the
+  // 2 x 2 diagonal blocks of the higher ones without the whole C x C block.
+  void AddMultiplicationBlock(double scale, const double* derivative_rates, int first, int last,
+                              Eigen::Ref<Eigen::MatrixXd> out) const;
 
   // exp(i g.phi_s) phase of sample s for integer grid vector g, as the
   // fraction (g.s mod M)/M per angle; used to sample time functions exactly.
@@ -86,7 +93,9 @@ class SpectralTransform {
   double* real_ = nullptr;
   std::complex<double>* spectrum_ = nullptr;
   std::vector<std::complex<double>> analysed_;
-  mutable std::vector<std::complex<double>> line_spectrum_;  // one angle: P[g], g = -span..span
+  // One angle: P[g] at the differences g = -span..span and the sums g =
+  // low..low + 2 span of the block being built.
+  mutable std::vector<std::complex<double>> line_spectrum_, sum_spectrum_;
   void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
   void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
   // Dense backend: E (M x C), E* (C x M), and the half spectrum's real and

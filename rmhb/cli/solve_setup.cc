@@ -66,6 +66,12 @@ void AddSolveSettings(CLI::App* app, ModelSettings* m) {
                   "tests, so a model in SI units converges like its nondimensional form) or none "
                   "(absolute tests on max|F| and the step)")
       ->check(CLI::IsMember({"equilibrate", "none"}));
+  app->add_option("--linear-solver", a->linear_solver,
+                  "Newton's linear solver: auto (default: dense LU up to 800 unknowns, above it "
+                  "GMRES on exact Jacobian-vector products, the sparse LU if that fails on a "
+                  "block-sparse Jacobian), dense, sparse (UMFPACK) or krylov (GMRES, "
+                  "UMFPACK-preconditioned)")
+      ->check(CLI::IsMember({"auto", "dense", "sparse", "krylov"}));
   app->add_option("--max-iterations", a->max_iterations, "Nonlinear solver iteration limit (default 100)")
       ->check(CLI::Range(1, 100000));
   app->add_flag("--allow-aliasing", a->allow_aliasing, "Accept M below the alias-free bound");

@@ -39,6 +39,7 @@ PreparedSolve PrepareSolve(Model model, const SolveSettings& a) {
   options.solver.method = ParseSolverMethod(a.solver);
   options.solver.max_iterations = a.max_iterations;
   options.solver.scaling = ParseScaling(a.scaling);
+  options.solver.linear_solver = ParseLinearSolver(a.linear_solver);
   options.solver.residual_tolerance = a.residual_tol;
   options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;
   options.quasi_periodic_sampling =

@@ -34,6 +34,7 @@ struct SolveSettings {
   std::string method = "rhb";    // rhb, hdhb, aft (SamplingRule)
   std::string solver = "auto";   // auto, newton, lm, tikhonov (SolverMethod)
   std::string scaling = "equilibrate";  // equilibrate, none (SolverOptions::scaling)
+  std::string linear_solver = "auto";   // auto, dense, sparse, krylov (SolverOptions::linear_solver)
   int max_iterations = 100;
   bool allow_aliasing = false;
   std::string frequencies;  // "w1,w2"; "?w" marks an unknown with guess w (SetFrequencies)

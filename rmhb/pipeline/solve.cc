@@ -49,6 +49,10 @@ std::string Details(const SolveSummary& s) {
   out += Format("residual     %.3e after %d iterations (%s)\n", hb.solver.final_residual, hb.solver.iterations,
                 ToString(hb.solver.method));
   out += Format("time         %.3f ms\n", hb.seconds * 1e3);
+  out += Format("linear       %s, %d unknowns", ToString(hb.solver.linear_solver), hb.solver.num_unknowns);
+  if (hb.solver.linear_solver == LinearSolver::kKrylov)
+    out += Format(", %d GMRES iterations", hb.solver.linear_iterations);
+  out += Format("; peak memory %.0f MiB\n", s.peak_memory_bytes / (1 << 20));
   if (s.start_route != "guess" || !s.start_note.empty())
     out += "start        " + s.start_route + (s.start_note.empty() ? "" : "; ") + s.start_note + "\n";
   if (s.converged()) out += "physical     " + PhysicalLine(hb) + "\n";
@@ -157,6 +161,10 @@ json SolveSummary::ToJson() const {
   out["alias_free"] = hb.alias_free;
   out["degree"] = hb.degree;
   out["iterations"] = hb.solver.iterations;
+  out["linear_solver"] = ToString(hb.solver.linear_solver);
+  out["linear_iterations"] = hb.solver.linear_iterations;
+  out["unknowns"] = hb.solver.num_unknowns;
+  out["peak_memory_bytes"] = peak_memory_bytes;
   out["residual"] = JsonNumber(hb.solver.final_residual);
   out["seconds"] = hb.seconds;
   out.update(PhysicalJson(hb));
@@ -225,11 +233,13 @@ SolveSummary SolveModel(const Model& given, const HarmonicSolution& guess, const
   if (!hb.converged()) {
     s.status = SolveStatus::kNotConverged;
     s.message = hb.solver.message;
+    s.peak_memory_bytes = PeakMemoryBytes();
     return s;
   }
   if (!model.reference.empty()) s.errors = ErrorsAgainst(model.reference, s.solution());
   if (options.validate) s.validation = Validate(model, s.solution(), options);
   if (options.stability) s.stability = Stability(model, s.solution());
+  s.peak_memory_bytes = PeakMemoryBytes();
   if (!hb.physical) {
     s.status = SolveStatus::kNonPhysical;
     s.message = hb.non_physical;

@@ -78,6 +78,9 @@ struct SolveSummary {
   std::optional<ReferenceErrors> errors;
   std::optional<SolveValidation> validation;
   std::optional<StabilitySummary> stability;
+  // The process's peak resident memory at the end (solve, validation and
+  // stability included), bytes; 0 where unknown.
+  double peak_memory_bytes = 0;
   // The model, for the reports.
   std::string model_name, equation, recast;
   // Which equations were solved ("recast" or "original", Model::equations),

@@ -53,7 +53,7 @@ const std::map<std::string, std::string>& Samples() {
       {"--validate", ""}, {"--stability", ""}, {"--validate-periods", "2"}, {"--plot", "{dir}/plot.png"},
       {"--json", ""}, {"--quiet", ""}, {"--continue", "w=1:1.2"}, {"--steps", "5"}, {"--max-step", "0.1"},
       {"--natural", ""}, {"--plot-var", "x"}, {"--no-stability", ""}, {"--stability-method", "monodromy"},
-      {"--switch-branches", ""}, {"--t-end", "80"}, {"--transient", "20"},
+      {"--switch-branches", ""}, {"--t-end", "80"}, {"--transient", "20"}, {"--linear-solver", "sparse"},
       {"--samples-per-period", "32"}, {"--window", "2"}, {"--signal", "{signal}"}, {"--dt", "0.05"},
       {"--rtol", "1e-10"}, {"--atol", "1e-12"}, {"--integrator", "bdf"}, {"--orders", "5,6"},
       {"--methods", "rhb"}, {"--conditions", "model"}, {"--taylor", "7"}, {"--original-samples", "64"},
