@@ -678,12 +678,15 @@ std::string TorusLines(const ContinuationSummary& c, const std::vector<BranchPoi
 
 std::string TongueReport::Describe(const std::string& parameter) const {
   char text[600];
-  std::snprintf(text, sizeof text,
-                "locking tongue %d:%d (w2/w1 = %d/%d): the torus stopped at %s = %.10g (w2/w1 = %.10g); locked orbit "
-                "of base w1/%d solved at %.10g (%s start)",
-                lock.p, lock.q, lock.p, lock.q, parameter.c_str(), torus_end, ratio_end, lock.q, centre_estimate,
-                locked_start.empty() ? "no" : locked_start.c_str());
+  std::snprintf(text, sizeof text, "the torus stopped at %s = %.10g (w2/w1 = %.10g)", parameter.c_str(), torus_end,
+                ratio_end);
   std::string out = text;
+  if (std::isnan(centre_estimate)) return out + "; " + message;
+  std::snprintf(text, sizeof text, "locking tongue %d:%d (w2/w1 = %d/%d): ", lock.p, lock.q, lock.p, lock.q);
+  out = text + out;
+  std::snprintf(text, sizeof text, "; locked orbit of base w1/%d solved at %.10g (%s)", lock.q, centre_estimate,
+                locked_start.empty() ? "no start converged" : locked_start.c_str());
+  out += text;
   if (std::isfinite(near_edge) && std::isfinite(far_edge)) {
     std::snprintf(text, sizeof text, "; locked between %s = %.12g and %.12g (folds of the locked branch)",
                   parameter.c_str(), std::min(near_edge, far_edge), std::max(near_edge, far_edge));

@@ -14,18 +14,19 @@ namespace {
 // Coefficient column of harmonic index i (>= 1): cos at 2i - 1, sin at 2i.
 int CosColumn(int i) { return 2 * i - 1; }
 
-// Whether k leaves the set when |k_b| grows by one for some base b.
+// Whether k leaves the set when |k_b| grows by two for some base b: the two
+// outermost layers of the set, whatever its shape (two, so that a set or a
+// solution with one parity of harmonics, odd m + n, still has its rim).
 bool OnRim(const HarmonicBasis& basis, std::vector<int> k) {
   for (size_t b = 0; b < k.size(); ++b) {
     const int old = k[b];
-    k[b] += old >= 0 ? 1 : -1;
-    const bool outside = basis.Find(k) < 0;
-    if (!outside && old == 0) {  // the other sign too
-      k[b] = -1;
-      if (basis.Find(k) < 0) return true;
+    for (int step : {-2, 2}) {
+      if (old != 0 && (step > 0) != (old > 0)) continue;  // only outward
+      k[b] = old + step;
+      const bool outside = basis.Find(k) < 0;
+      k[b] = old;
+      if (outside) return true;
     }
-    k[b] = old;
-    if (outside) return true;
   }
   return false;
 }
@@ -34,23 +35,8 @@ bool OnRim(const HarmonicBasis& basis, std::vector<int> k) {
 
 double OutermostCoefficients(const HarmonicSolution& s) {
   const HarmonicBasis& basis = s.basis();
-  std::vector<bool> rim(basis.size(), false);
-  for (int i = 1; i < basis.size(); ++i) rim[i] = OnRim(basis, basis.harmonic(i));
-  // The second layer: inside, with an outward neighbour on the rim.
-  std::vector<bool> outer = rim;
-  for (int i = 1; i < basis.size(); ++i) {
-    if (rim[i]) continue;
-    std::vector<int> k = basis.harmonic(i);
-    for (size_t b = 0; b < k.size() && !outer[i]; ++b) {
-      const int old = k[b];
-      for (int step : {-1, 1}) {
-        k[b] = old + step;
-        const int j = basis.Find(k);
-        if (j > 0 && rim[j] && std::abs(k[b]) > std::abs(old)) outer[i] = true;
-      }
-      k[b] = old;
-    }
-  }
+  std::vector<bool> outer(basis.size(), false);
+  for (int i = 1; i < basis.size(); ++i) outer[i] = OnRim(basis, basis.harmonic(i));
   double worst = 0;
   const Eigen::MatrixXd& c = s.coefficients();
   for (int v = 0; v < s.num_variables(); ++v) {

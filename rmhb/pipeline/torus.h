@@ -26,11 +26,11 @@
 
 namespace rmhb {
 
-// For each variable, the root-sum-square of the coefficients on the two
-// outermost layers of the index set (harmonics k with k + e_b, |k_b|
-// raised, outside the set for some base b, and those next to them: two
-// layers, so that a solution with only odd or only even harmonics has a rim
-// that is not zero by symmetry), relative to the root-sum-square of all its
+// For each variable, the root-sum-square of the coefficients on the rim of
+// the index set (harmonics k for which k + 2 e_b, |k_b| raised by two, is
+// outside the set for some base b: two layers of a diamond or box, so that
+// a solution or set with one parity of harmonics still has a rim that is
+// not zero by symmetry), relative to the root-sum-square of all its
 // non-constant coefficients; the largest over the variables. A truncation
 // estimate: the basis resolves the solution where this is small.
 double OutermostCoefficients(const HarmonicSolution& solution);
