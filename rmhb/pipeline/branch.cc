@@ -360,11 +360,6 @@ std::function<std::string(const ContinuationPoint&)> TailWatch(double tolerance)
   };
 }
 
-bool ForcedTorus(const Model& model) {
-  const HarmonicBalanceProblem& p = model.problem;
-  return p.frequencies.size() == 2 && p.num_unknown_frequencies() == 1 && !p.unknown_frequency[0];
-}
-
 // Where the locked orbit is first sought: the beat Omega = q w2 - p w1
 // vanishes at the tongue's edges; near them Omega^2 is close to a quadratic
 // in the parameter (Adler's phase equation: Omega^2 = (lambda - c)^2 - a^2,
@@ -577,7 +572,7 @@ void TraceModelBranch(const Model& model, const ContinueOptions& o, Continuation
     // Floquet multipliers the trace looks for.
     if (torus && o.stability) b->continuation.stability_note.clear();
     const bool stopped = c.status == ContinuationStatus::kStopped || c.status == ContinuationStatus::kStepTooSmall;
-    if (!torus || !stopped || !o.locking || !ForcedTorus(model) || stretch >= o.max_tongues ||
+    if (!torus || !stopped || !o.locking || !IsForcedTorus(model) || stretch >= o.max_tongues ||
         c.points.size() - before < 2)
       return;
     TongueReport t;

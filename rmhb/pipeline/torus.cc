@@ -138,10 +138,55 @@ Resonance NearestResonance(double ratio, int max_denominator) {
   return best;
 }
 
+bool IsForcedTorus(const Model& model) {
+  const HarmonicBalanceProblem& p = model.problem;
+  return p.frequencies.size() == 2 && p.num_unknown_frequencies() == 1 && !p.unknown_frequency[0];
+}
+
+int LockedPeriods(const Model& model, int transient, int max_denominator, double tolerance, double* mismatch) {
+  if (!IsForcedTorus(model)) throw std::invalid_argument("LockedPeriods: not a forced torus");
+  if (transient < 0 || max_denominator < 1 || !(tolerance > 0))
+    throw std::invalid_argument("LockedPeriods: need transient >= 0, max_denominator >= 1, tolerance > 0");
+  const double T = 2 * M_PI / model.problem.frequencies[0];
+  const int kept = 4 * max_denominator;
+  std::vector<double> times;
+  for (int k = 0; k < kept; ++k) times.push_back((transient + k) * T);
+  integrators::IntegratorOptions io;
+  io.relative_tolerance = 1e-11;
+  io.absolute_tolerance = 1e-13;
+  if (model.stiff) io.method = integrators::IntegratorOptions::Method::kBdf;
+  const integrators::IntegrationResult r =
+      SimulateOriginal(model, model.problem.frequencies, model.initial_state, times, io);
+  *mismatch = HUGE_VAL;
+  if (!r.ok()) return 0;
+  const Eigen::MatrixXd& y = r.trajectory.states;
+  const double scale = std::max(y.cwiseAbs().maxCoeff(), 1e-300);
+  for (int q = 1; q <= max_denominator; ++q) {
+    double worst = 0;
+    for (int k = kept - 3 * max_denominator; k + q < kept; ++k)
+      worst = std::max(worst, (y.row(k + q) - y.row(k)).lpNorm<Eigen::Infinity>() / scale);
+    if (worst <= tolerance) {
+      *mismatch = worst;
+      return q;
+    }
+    *mismatch = std::min(*mismatch, worst);
+  }
+  return 0;
+}
+
+Resonance LockedResonance(const HarmonicSolution& locked, int q) {
+  int best = 1;
+  double largest = -1;
+  for (int i = 1; i < locked.basis().size(); ++i) {
+    const double a = locked.coefficients().row(0).segment(CosColumn(i), 2).norm();
+    if (a > largest) largest = a, best = locked.basis().harmonic(i)[0];
+  }
+  return {best, q, 0};
+}
+
 Model LockedModel(const Model& model, const Resonance& lock) {
   const HarmonicBalanceProblem& problem = model.problem;
-  if (problem.frequencies.size() != 2 || problem.num_unknown_frequencies() != 1 ||
-      problem.unknown_frequency[0])
+  if (!IsForcedTorus(model))
     throw std::invalid_argument("locking: a forced torus has two bases, the first (the forcing) known, the second unknown");
   if (lock.q < 1 || lock.p < 1) throw std::invalid_argument("locking: need p, q >= 1");
   if (model.num_user_conditions < 1)
@@ -157,6 +202,11 @@ Model LockedModel(const Model& model, const Resonance& lock) {
   if (model.original) out.original = [original = model.original, bind](const std::vector<double>& w) { return original(bind(w)); };
   if (model.original_dae)
     out.original_dae = [original = model.original_dae, bind](const std::vector<double>& w) { return original(bind(w)); };
+  if (model.variables)
+    out.variables = [variables = model.variables, lock](const std::vector<double>& theta,
+                                                        const std::vector<Eigen::VectorXd>& state) {
+      return variables({lock.q * theta[0], lock.p * theta[0]}, state);
+    };
   const int order = model.default_order;
   out.guess = nullptr;
   out.basis_for_order = nullptr;

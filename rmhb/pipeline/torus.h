@@ -81,6 +81,22 @@ struct Resonance {
 };
 Resonance NearestResonance(double ratio, int max_denominator);
 
+// Two bases, the first known (the forcing), the second unknown: the forced
+// torus LockedModel and LockedPeriods take.
+bool IsForcedTorus(const Model& model);
+
+// A forced torus' motion, from the model's initial state: locked when its
+// state at multiples of the forcing period T repeats every q periods
+// (max |y((k + q) T) - y(k T)| over the last 3 max_denominator periods
+// within `tolerance` times max |y|) after `transient` periods. The
+// smallest such q, or 0 (quasi-periodic, or not settled). Its largest
+// such difference for that q (or the smallest over q when 0) in *mismatch.
+int LockedPeriods(const Model& model, int transient, int max_denominator, double tolerance, double* mismatch);
+// The rotation number p/q of a locked orbit (a periodic solution on base
+// w1/q): p is the harmonic with the largest amplitude in the first variable,
+// the free oscillation the forcing entrained.
+Resonance LockedResonance(const HarmonicSolution& locked, int q);
+
 // A forced model with one known and one unknown base (w1 the forcing, w2
 // free, fixed in phase by as many of the user's conditions as it has unknown
 // bases) locked at w2 / w1 = p / q: one known base w1 / q, the phase

@@ -15,6 +15,7 @@
 
 #include "integrators/cvode_integrator.h"
 #include "integrators/lyapunov.h"
+#include "rmhb/pipeline/analyze.h"
 #include "rmhb/pipeline/branch.h"
 #include "rmhb/pipeline/settings.h"
 
@@ -149,6 +150,20 @@ TEST(Torus, ForcedBranchStableByLyapunovAndAcrossTheOneToOneTongue) {
   EXPECT_EQ(PhaseSlips(t.near_edge - 1e-4, 3000, 1500), 0);
   EXPECT_GE(PhaseSlips(t.near_edge + 1e-4, 3000, 1500), 1);
   EXPECT_EQ(b.status, BranchStatus::kCompleted) << b.message;  // locked to the end of the range
+}
+
+TEST(Torus, AnalyzeSaysLockedOrQuasiPeriodicAndSolvesThatOne) {
+  AnalyzeOptions o;
+  o.solve.order = 20;
+  const AnalyzeSummary locked = Analyze(LoadModel(kVdp, {{"w", 1.0}}), o);
+  EXPECT_EQ(locked.motion.rfind("locked 1:1", 0), 0u) << locked.motion;
+  ASSERT_TRUE(locked.ok()) << locked.FullReport();
+  EXPECT_EQ(locked.solve->solution->frequencies().size(), 1u);
+  EXPECT_DOUBLE_EQ(locked.solve->solution->frequencies()[0], 1.0);
+  const AnalyzeSummary torus = Analyze(LoadModel(kVdp, {{"w", 1.15}}), o);
+  EXPECT_EQ(torus.motion.rfind("quasi-periodic", 0), 0u) << torus.motion;
+  ASSERT_TRUE(torus.solve && torus.solve->usable()) << torus.FullReport();
+  EXPECT_EQ(torus.solve->solution->frequencies().size(), 2u);
 }
 
 }  // namespace
