@@ -59,7 +59,8 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
                 "pseudo-arclength (passes folds)");
   app->add_option("--plot-var", a->plot_var,
                   "Continuation with --plot: draw the amplitude max|VAR(t)| of this variable (default: the "
-                  "first) or, with 'frequency', the first base frequency against the parameter");
+                  "first), with 'frequency' the first base frequency, with 'ratio' (default for tori) the "
+                  "rotation number w2/w1 (the devil's staircase, locked branches at p/q) against the parameter");
   app->add_flag("--no-stability", a->no_stability,
                 "Continuation: skip the Floquet multipliers per point (and so the bifurcations but folds)");
   app->add_option("--stability-method", a->stability_method,
@@ -168,14 +169,24 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   if (!solve.csv.empty()) WriteCsv(branch, solve.csv);
   std::string plot_data;
   if (!solve.plot.empty() && !summary.points.empty()) {
-    const std::string var = a.plot_var.empty() ? summary.points[0].solution.variables()[0].name : a.plot_var;
+    const std::string var = !a.plot_var.empty() ? a.plot_var
+                            : branch.bases == 2 ? "ratio"
+                                                : summary.points[0].solution.variables()[0].name;
     std::vector<plot::BranchRow> rows = plot::BranchRows(summary, var);
+    for (size_t i = 0; i < rows.size(); ++i) rows[i].stability = branch.reports[i].stability;  // tori: Lyapunov's
     int index = 0;
     for (const DoubledBranchReport& d : branch.doubled)
       if (d.branch.branch) {
         const std::vector<plot::BranchRow> more = plot::BranchRows(*d.branch.branch, var, ++index);
         rows.insert(rows.end(), more.begin(), more.end());
       }
+    if (var == "ratio")
+      for (const TongueReport& t : branch.tongues)
+        for (const ContinuationSummary& l : t.locked) {
+          const std::vector<plot::BranchRow> more =
+              plot::LockedRows(l, static_cast<double>(t.lock.p) / t.lock.q, ++index);
+          rows.insert(rows.end(), more.begin(), more.end());
+        }
     plot_data = solve.plot + ".dat";
     plot::WriteBranchData(rows, range.name, var, plot_data);
     plot::PlotBranch(rows, prepared.model.name + ": " + prepared.model.equation, range.name, var, solve.plot);
