@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -10,6 +9,7 @@
 
 #include "integrators/cvode_integrator.h"
 #include "integrators/detail/validation.h"
+#include "integrators/variational.h"
 
 namespace rmhb::integrators {
 
@@ -37,33 +37,8 @@ FloquetReport FloquetMultipliers(const OdeSystem& system, const Eigen::VectorXd&
   const auto start = std::chrono::steady_clock::now();
   const int n = system.dimension;
 
-  // State [y, Phi column by column]; Phi' = J Phi with J analytic or by
-  // central differences (2n right-hand sides per evaluation).
-  OdeSystem augmented;
-  augmented.dimension = n + n * n;
-  augmented.rhs = [&system, &options, n](double t, const double* z, double* dz) {
-    system.rhs(t, z, dz);
-    Eigen::MatrixXd jacobian(n, n);
-    if (options.jacobian) {
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows(n, n);
-      options.jacobian(t, z, rows.data());
-      jacobian = rows;
-    } else {
-      const double step = std::cbrt(std::numeric_limits<double>::epsilon());
-      Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(z, n), plus(n), minus(n);
-      for (int i = 0; i < n; ++i) {
-        const double h = step * (1 + std::abs(z[i]));
-        y(i) = z[i] + h;
-        system.rhs(t, y.data(), plus.data());
-        y(i) = z[i] - h;
-        system.rhs(t, y.data(), minus.data());
-        y(i) = z[i];
-        jacobian.col(i) = (plus - minus) / (2 * h);
-      }
-    }
-    Eigen::Map<Eigen::MatrixXd>(dz + n, n, n) =
-        jacobian * Eigen::Map<const Eigen::MatrixXd>(z + n, n, n);
-  };
+  // State [y, Phi column by column], Phi(0) = I.
+  const OdeSystem augmented = VariationalSystem(system, options.jacobian);
   Eigen::VectorXd z0(augmented.dimension);
   z0.head(n) = y0;
   Eigen::Map<Eigen::MatrixXd>(z0.data() + n, n, n).setIdentity();

@@ -1,5 +1,6 @@
 #include "rmhb/branch_switching.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -15,15 +16,26 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// p with every time function's harmonic multiplied by `factor`.
-Polynomial ScaledForcing(const Polynomial& p, int factor) {
+// p with every time function's harmonic vector h replaced by map(h). A
+// mapped harmonic that is negative or zero in its first non-zero entry is
+// turned back (cos(-x) = cos x, sin(-x) = -sin x; cos 0 = 1, sin 0 = 0).
+template <typename Map>
+Polynomial MappedForcing(const Polynomial& p, Map map) {
   Polynomial out;
   for (const auto& [monomial, c] : p.terms()) {
     Polynomial term(c);
     if (monomial.time.kind != TimeFunction::Kind::kOne) {
-      std::vector<int> h = monomial.time.harmonic;
-      for (int& k : h) k *= factor;
-      term = term * (monomial.time.kind == TimeFunction::Kind::kCos ? Polynomial::Cos(h) : Polynomial::Sin(h));
+      std::vector<int> h = map(monomial.time.harmonic);
+      const auto first = std::find_if(h.begin(), h.end(), [](int k) { return k != 0; });
+      const bool cosine = monomial.time.kind == TimeFunction::Kind::kCos;
+      if (first == h.end()) {
+        term = cosine ? term : Polynomial();
+      } else {
+        const double sign = *first < 0 && !cosine ? -1 : 1;
+        if (*first < 0)
+          for (int& k : h) k = -k;
+        term = term * (cosine ? Polynomial::Cos(h) : Polynomial::Sin(h, sign));
+      }
     }
     for (const auto& [slot, power] : monomial.factors)
       term = term * Pow(slot.derivative ? Polynomial::Derivative(slot.variable) : Polynomial::Variable(slot.variable),
@@ -31,6 +43,14 @@ Polynomial ScaledForcing(const Polynomial& p, int factor) {
     out += term;
   }
   return out;
+}
+
+// p with every time function's harmonic multiplied by `factor`.
+Polynomial ScaledForcing(const Polynomial& p, int factor) {
+  return MappedForcing(p, [factor](std::vector<int> h) {
+    for (int& k : h) k *= factor;
+    return h;
+  });
 }
 
 // Coefficient column of harmonic index i (>= 1): cos at 2i - 1, sin at 2i.
@@ -144,6 +164,38 @@ HarmonicSolution PeriodMultipliedSolution(const HarmonicSolution& s, int factor)
   std::vector<double> w = s.frequencies();
   for (double& v : w) v /= factor;
   return HarmonicSolution(basis, w, c, s.variables());
+}
+
+HarmonicBalanceProblem OnResonantBase(const HarmonicBalanceProblem& problem, const std::vector<int>& multiples) {
+  const size_t bases = problem.frequencies.size();
+  if (multiples.size() != bases || bases < 1)
+    throw std::invalid_argument("OnResonantBase: one multiple per base frequency");
+  for (int a : multiples)
+    if (a < 0) throw std::invalid_argument("OnResonantBase: multiples must be >= 0");
+  if (multiples[0] < 1) throw std::invalid_argument("OnResonantBase: the first multiple must be >= 1");
+  HarmonicBalanceProblem out = problem;
+  PolynomialSystem system;
+  for (const Variable& v : problem.system.variables()) system.AddVariable(v.name, v.role, v.definition);
+  auto map = [&multiples](const std::vector<int>& h) {
+    int k = 0;
+    for (size_t b = 0; b < h.size(); ++b) k += multiples[b] * h[b];
+    return std::vector<int>{k};
+  };
+  for (const Equation& e : problem.system.equations()) system.AddEquation(MappedForcing(e.lhs, map), e.balance_constant);
+  out.system = std::move(system);
+  out.frequencies = {problem.frequencies[0] / multiples[0]};
+  const bool unknown = !problem.unknown_frequency.empty() && problem.unknown_frequency[0];
+  out.unknown_frequency = {unknown};
+  out.symmetries.clear();
+  if (problem.definitions) {
+    const VariableDefinitions old = problem.definitions;
+    out.definitions.evaluate = [old, multiples](const std::vector<double>& theta, const std::vector<Eigen::VectorXd>& z) {
+      std::vector<double> angle(multiples.size());
+      for (size_t b = 0; b < angle.size(); ++b) angle[b] = multiples[b] * theta[0];
+      return old.evaluate(angle, z);
+    };
+  }
+  return out;
 }
 
 DoubledBranch TraceDoubledBranch(const ContinuationProblem& problem, const ContinuationSummary& branch,

@@ -52,6 +52,14 @@ HarmonicBalanceProblem PeriodMultiplied(const HarmonicBalanceProblem& problem, i
 // factor k (basis Periodic(factor N)).
 HarmonicSolution PeriodMultipliedSolution(const HarmonicSolution& solution, int factor);
 
+// The problem on one base w = w_1 / a_1 when every base is a multiple of it,
+// w_b = a_b w (a torus locked at w_2 / w_1 = a_2 / a_1): a time function's
+// harmonic k becomes sum_b a_b k_b; the first base's known/unknown status
+// is kept, conditions are kept (the caller drops those that fixed the lost
+// angles), asserted symmetries dropped, definitions evaluated on the old
+// angles a_b theta.
+HarmonicBalanceProblem OnResonantBase(const HarmonicBalanceProblem& problem, const std::vector<int>& multiples);
+
 struct DoubledBranch {
   bool started = false;
   std::string message;   // why not, or how it ended

@@ -61,10 +61,14 @@ struct ContinuationArgs {
   bool stability_method_given = false;
   bool switch_branches = false;
   std::string plot_var;  // with --plot: a variable's amplitude (default the first) or "frequency"
+  double torus_tail = 1e-6;   // ContinueOptions::tail_tolerance
+  bool torus_tail_given = false;
+  bool no_locking = false;    // !ContinueOptions::locking
 };
 
 // Adds --continue, --steps, --max-step, --natural, --no-stability,
-// --stability-method, --switch-branches and --plot-var to `solve`.
+// --stability-method, --switch-branches, --plot-var, --torus-tail and
+// --no-locking to `solve`.
 void AddContinuationOptions(CLI::App* solve, ContinuationArgs* args);
 // Throws std::invalid_argument when an option only continuation uses is
 // given without --continue.

@@ -59,7 +59,8 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
                 "pseudo-arclength (passes folds)");
   app->add_option("--plot-var", a->plot_var,
                   "Continuation with --plot: draw the amplitude max|VAR(t)| of this variable (default: the "
-                  "first) or, with 'frequency', the first base frequency against the parameter");
+                  "first), with 'frequency' the first base frequency, with 'ratio' (default for tori) the "
+                  "rotation number w2/w1 (the devil's staircase, locked branches at p/q) against the parameter");
   app->add_flag("--no-stability", a->no_stability,
                 "Continuation: skip the Floquet multipliers per point (and so the bifurcations but folds)");
   app->add_option("--stability-method", a->stability_method,
@@ -69,6 +70,15 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
                   "compared), hb-monodromy, hill or monodromy")
       ->check(CLI::IsMember({"auto", "hill", "monodromy", "hb-monodromy"}))
       ->each([a](const std::string&) { a->stability_method_given = true; });
+  app->add_option("--torus-tail", a->torus_tail,
+                  "Continuation of a quasi-periodic model: stop the torus where its outermost coefficients "
+                  "exceed this fraction of the solution (default 1e-6: the basis no longer resolves it)")
+      ->check(CLI::PositiveNumber)
+      ->each([a](const std::string&) { a->torus_tail_given = true; });
+  app->add_flag("--no-locking", a->no_locking,
+                "Continuation of a forced quasi-periodic model: stop where the torus stops instead of crossing "
+                "the locking tongue ahead (the locked orbit of base w1/q followed to both edges, the torus "
+                "resumed past it)");
   app->add_flag("--switch-branches", a->switch_branches,
                 "Continuation: from every period doubling follow the period-2T branch, and at every "
                 "Neimark-Sacker point solve the torus just past it (two bases: the forcing and "
@@ -78,6 +88,8 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
 void CheckWithoutContinuation(const ContinuationArgs& a) {
   if (a.switch_branches) throw std::invalid_argument("--switch-branches needs --continue");
   if (a.stability_method_given) throw std::invalid_argument("--stability-method needs --continue");
+  if (a.torus_tail_given) throw std::invalid_argument("--torus-tail needs --continue");
+  if (a.no_locking) throw std::invalid_argument("--no-locking needs --continue");
 }
 
 namespace {
@@ -93,6 +105,9 @@ void CsvRows(const BranchSummary& b, const ContinuationSummary& c, const std::ve
     csv << "," << r.peak << "," << p.residual << "," << (p.fold ? 1 : 0) << "," << r.stability;
     if (b.validated) csv << "," << r.validation_error;
     if (b.has_reference) csv << "," << r.frequency_error << "," << r.amplitude_error;
+    if (b.bases > 1)
+      csv << "," << r.ratio << "," << r.outermost << ","
+          << (r.lyapunov && r.lyapunov->ok ? r.lyapunov->max_exponent : NAN) << "," << r.segment;
     csv << "," << ToString(p.stability_method) << "," << p.max_multiplier << ","
         << (p.bifurcation >= 0 ? ToString(c.bifurcations[p.bifurcation].type) : "") << "," << index << "\n";
   }
@@ -106,7 +121,7 @@ void WriteCsv(const BranchSummary& b, const std::string& file) {
   for (int i = 0; i < b.bases; ++i) csv << ",w" << i + 1;
   csv << ",amplitude,residual,fold,stability" << (b.validated ? ",validation_error" : "")
       << (b.has_reference ? ",frequency_error,amplitude_error" : "")
-      << ",stability_method,max_multiplier,bifurcation,branch\n";
+      << (b.bases > 1 ? ",ratio,outermost,max_lyapunov_exponent,stretch" : "") << ",stability_method,max_multiplier,bifurcation,branch\n";
   CsvRows(b, b.continuation, b.reports, 0, csv);
   int index = 0;
   for (const DoubledBranchReport& d : b.doubled)
@@ -144,6 +159,8 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   options.validate_tolerance = solve.validate_tol;
   options.validate = solve.validate;
   options.validate_periods = solve.validate_periods;
+  options.tail_tolerance = a.torus_tail;
+  options.locking = !a.no_locking;
   BranchSummary branch;
   try {
     branch = ContinueModel(prepared.model, prepared.guess, options);
@@ -154,14 +171,24 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
   if (!solve.csv.empty()) WriteCsv(branch, solve.csv);
   std::string plot_data;
   if (!solve.plot.empty() && !summary.points.empty()) {
-    const std::string var = a.plot_var.empty() ? summary.points[0].solution.variables()[0].name : a.plot_var;
+    const std::string var = !a.plot_var.empty() ? a.plot_var
+                            : branch.bases == 2 ? "ratio"
+                                                : summary.points[0].solution.variables()[0].name;
     std::vector<plot::BranchRow> rows = plot::BranchRows(summary, var);
+    for (size_t i = 0; i < rows.size(); ++i) rows[i].stability = branch.reports[i].stability;  // tori: Lyapunov's
     int index = 0;
     for (const DoubledBranchReport& d : branch.doubled)
       if (d.branch.branch) {
         const std::vector<plot::BranchRow> more = plot::BranchRows(*d.branch.branch, var, ++index);
         rows.insert(rows.end(), more.begin(), more.end());
       }
+    if (var == "ratio")
+      for (const TongueReport& t : branch.tongues)
+        for (const ContinuationSummary& l : t.locked) {
+          const std::vector<plot::BranchRow> more =
+              plot::LockedRows(l, static_cast<double>(t.lock.p) / t.lock.q, ++index);
+          rows.insert(rows.end(), more.begin(), more.end());
+        }
     plot_data = solve.plot + ".dat";
     plot::WriteBranchData(rows, range.name, var, plot_data);
     plot::PlotBranch(rows, prepared.model.name + ": " + prepared.model.equation, range.name, var, solve.plot);

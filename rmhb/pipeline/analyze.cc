@@ -1,7 +1,9 @@
 #include "rmhb/pipeline/analyze.h"
 
+
 #include "rmhb/pipeline/report.h"
 #include "rmhb/pipeline/start.h"
+#include "rmhb/pipeline/torus.h"
 
 #include <algorithm>
 #include <chrono>
@@ -142,15 +144,59 @@ std::string AnalyzeOptions::IsValid() const {
   if (window < 0) return "window must be >= 0";
   if (validate_periods < 1) return "validate_periods must be >= 1";
   if (!(validate_tolerance > 0)) return "validate_tolerance must be > 0";
+  if (locking_transient < 0 || max_locking_denominator < 1 || !(locking_tolerance > 0))
+    return "locking_transient must be >= 0, max_locking_denominator >= 1, locking_tolerance > 0";
   return solve.IsValid();
 }
+
+namespace {
+
+// The locked orbit of a forced torus whose motion repeats every q forcing
+// periods: the model on the base w1/q (LockedModel; p does not enter a
+// forced model's equations, LockedResonance reads it off the solution).
+AnalyzeSummary AnalyzeLocked(const Model& model, const AnalyzeOptions& options, int q, double mismatch) {
+  AnalyzeOptions o = options;
+  o.solve.order = options.solve.order * q;
+  o.solve.basis_for_order = nullptr;
+  o.solve.shape = BasisShape::kDiamond;
+  o.solve.samples.clear();
+  AnalyzeSummary s = Analyze(LockedModel(model, {1, q, 0}), o);
+  char text[300];
+  if (s.solve && s.solve->solution) {
+    const Resonance lock = LockedResonance(*s.solve->solution, q);
+    std::snprintf(text, sizeof text,
+                  "locked %d:%d (w2/w1 = %d/%d): periodic with base w1/%d = %.15g; the state at multiples of the "
+                  "forcing period repeats every %d periods to %.1e",
+                  lock.p, q, lock.p, q, q, s.solve->solution->frequencies()[0], q, mismatch);
+  } else {
+    std::snprintf(text, sizeof text, "locked (the state repeats every %d forcing periods to %.1e)", q, mismatch);
+  }
+  s.motion = text;
+  return s;
+}
+
+}  // namespace
 
 AnalyzeSummary Analyze(const Model& model, const AnalyzeOptions& options) {
   const auto start = Clock::now();
   if (const std::string error = options.IsValid(); !error.empty()) throw std::invalid_argument("analyze: " + error);
   if (!model.original && !model.original_dae)
     throw std::invalid_argument("cannot integrate the model: " + model.original_error);
+  std::string motion;
+  if (options.identify && options.detect_locking && IsForcedTorus(model) && model.initial_state.size() > 0) {
+    double mismatch = 0;
+    const int q = LockedPeriods(model, options.locking_transient, options.max_locking_denominator,
+                                options.locking_tolerance, &mismatch);
+    if (q > 0) return AnalyzeLocked(model, options, q, mismatch);
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "quasi-periodic: the state at multiples of the forcing period repeats for no q <= %d (closest "
+                  "%.1e > %.0e)",
+                  options.max_locking_denominator, mismatch, options.locking_tolerance);
+    motion = text;
+  }
   AnalyzeSummary s;
+  s.motion = motion;
   s.problem = model.problem;
   s.solve_options = options.solve;
   s.validate_periods = options.validate_periods;
@@ -315,7 +361,7 @@ std::string AnalyzeSummary::status_word() const {
 }
 
 std::string AnalyzeSummary::StageReport() const {
-  std::string out;
+  std::string out = motion.empty() ? "" : "motion     " + motion + "\n";
   for (const std::string& line : Report(*this).lines) out += line + "\n";
   return out;
 }
@@ -325,6 +371,7 @@ std::string AnalyzeSummary::FullReport() const { return StageReport() + BriefRep
 json AnalyzeSummary::ToJson() const {
   json out = {{"status", status_word()}, {"message", message}, {"identified", identified},
               {"stages", Report(*this).stages}};
+  if (!motion.empty()) out["motion"] = motion;
   if (solved()) out.update(SolutionJson(*solve->solution));
   return out;
 }

@@ -38,6 +38,15 @@ struct AnalyzeOptions {
   int window = 0;              // Hann^q for identification; 0: automatic
   int validate_periods = 20;   // of the slowest base
   double validate_tolerance = 1e-8;  // relative to max|state| (JudgeValidation)
+  // A forced torus (rmhb/pipeline/torus.h: two bases, the forcing known):
+  // is its motion locked? Its stroboscopic state after locking_transient
+  // forcing periods repeating every q <= max_locking_denominator periods
+  // within locking_tolerance (LockedPeriods) says so, and the locked orbit
+  // of base w1/q is analyzed instead of the torus (METHOD.md s.18).
+  bool detect_locking = true;
+  int locking_transient = 1000;
+  int max_locking_denominator = 10;
+  double locking_tolerance = 1e-7;
   std::string IsValid() const;  // empty when valid
 };
 
@@ -77,6 +86,10 @@ struct AnalyzeSummary {
   std::optional<integrators::ValidationReport> validation;
   std::optional<ValidationVerdict> verdict;
   double validation_t_end = 0;
+  // A forced torus' motion: "locked p:q ..." (the solution is then the
+  // periodic orbit of base w1/q) or "quasi-periodic ..." with the number
+  // judged; empty for other models.
+  std::string motion;
   double seconds = 0;
 
   bool ok() const { return status == AnalyzeStatus::kConverged; }

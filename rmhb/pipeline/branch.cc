@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 
 #include "rmhb/pipeline/monodromy.h"
 #include "rmhb/pipeline/report.h"
 #include "rmhb/pipeline/start.h"
+#include "rmhb/pipeline/torus.h"
 
 namespace rmhb {
 namespace {
@@ -44,6 +46,14 @@ BranchPointReport ReportPoint(const Model& model, const ContinueOptions& o, cons
                             : integrators::ValidateTrajectory(here.original(bases), claimed, t_end, here.stiff, 401);
     }
     r.validation_error = v.ok ? v.max_error : NAN;
+  }
+  if (p.solution.frequencies().size() > 1) {
+    r.outermost = OutermostCoefficients(p.solution);
+    r.ratio = p.solution.frequencies()[1] / p.solution.frequencies()[0];
+    if (o.stability) {
+      r.lyapunov = TorusStability(here, p.solution, o.torus_stability);
+      r.stability = ToString(r.lyapunov->stability);
+    }
   }
   return r;
 }
@@ -109,25 +119,34 @@ std::string Marks(const ContinuationSummary& s, const ContinuationPoint& p) {
   return "";
 }
 
-std::string Header(const ContinuationSummary& c, bool validated, bool has_reference) {
-  char header[256];
-  std::snprintf(header, sizeof header, "\n%-22s %-20s %-20s %-9s %-9s %-10s %-12s%s%s\n", c.parameter.c_str(),
-                "frequency", "amplitude max|x|", "residual", "stability", "by", "max|mu|",
-                validated ? " validation" : "", has_reference ? " exact error" : "");
+std::string Header(const ContinuationSummary& c, bool validated, bool has_reference, bool torus) {
+  char header[300];
+  std::snprintf(header, sizeof header, "\n%-22s %-20s %-20s %-9s %s%-9s %-10s %-12s%s%s\n", c.parameter.c_str(),
+                "frequency", "amplitude max|x|", "residual", torus ? "outermost w2/w1               " : "",
+                "stability", "by", torus ? "max exponent" : "max|mu|", validated ? " validation" : "",
+                has_reference ? " exact error" : "");
   return header;
 }
 
 std::string Row(const ContinuationSummary& c, const ContinuationPoint& p, const BranchPointReport& r,
                 bool validated, bool has_reference) {
   std::string w;
-  char text[256];
+  char text[300];
   for (double v : p.solution.frequencies()) {
     std::snprintf(text, sizeof text, "%s%.15g", w.empty() ? "" : ",", v);
     w += text;
   }
-  std::snprintf(text, sizeof text, "%-22.15g %-20s %-20.15g %-9.1e %-9s %-10s %-12.9g", p.parameter, w.c_str(),
-                r.peak, p.residual, r.stability.c_str(), ToString(p.stability_method), p.max_multiplier);
-  std::string row = text;
+  std::string row;
+  if (std::isnan(r.outermost)) {
+    std::snprintf(text, sizeof text, "%-22.15g %-20s %-20.15g %-9.1e %-9s %-10s %-12.9g", p.parameter, w.c_str(),
+                  r.peak, p.residual, r.stability.c_str(), ToString(p.stability_method), p.max_multiplier);
+  } else {
+    const bool lyapunov = r.lyapunov && r.lyapunov->ok;
+    std::snprintf(text, sizeof text, "%-22.15g %-20s %-20.15g %-9.1e %-9.1e %-20.15g %-9s %-10s %-12.4g", p.parameter,
+                  w.c_str(), r.peak, p.residual, r.outermost, r.ratio, r.stability.c_str(),
+                  lyapunov ? "lyapunov" : "none", lyapunov ? r.lyapunov->max_exponent : NAN);
+  }
+  row = text;
   if (validated) std::snprintf(text, sizeof text, " %-10.1e", r.validation_error), row += text;
   if (has_reference) std::snprintf(text, sizeof text, " %.1e", r.reference_error()), row += text;
   return row + Marks(c, p) + (r.physical() ? "" : "  <- NON-PHYSICAL") + "\n";
@@ -135,7 +154,8 @@ std::string Row(const ContinuationSummary& c, const ContinuationPoint& p, const 
 
 std::string Table(const ContinuationSummary& c, const std::vector<BranchPointReport>& reports, bool validated,
                   bool has_reference) {
-  std::string out = Header(c, validated, has_reference);
+  const bool torus = !reports.empty() && !std::isnan(reports[0].outermost);
+  std::string out = Header(c, validated, has_reference, torus);
   for (size_t i = 0; i < c.points.size(); ++i) out += Row(c, c.points[i], reports[i], validated, has_reference);
   return out;
 }
@@ -165,6 +185,17 @@ json BifurcationJson(const BifurcationPoint& b) {
   return out;
 }
 
+json LyapunovJson(const TorusStabilityReport& l) {
+  json exponents = json::array();
+  for (double v : l.exponents) exponents.push_back(JsonNumber(v));
+  return {{"ok", l.ok},         {"message", l.message},
+          {"exponents", exponents}, {"trivial", l.trivial},
+          {"trivial_max", JsonNumber(l.trivial_max)}, {"max_exponent", JsonNumber(l.max_exponent)},
+          {"tolerance", JsonNumber(l.tolerance)},     {"spread", JsonNumber(l.spread)},
+          {"stability", ToString(l.stability)},     {"time", JsonNumber(l.time)},
+          {"steps", l.steps},                       {"seconds", l.seconds}};
+}
+
 json PointJson(const ContinuationSummary& c, const ContinuationPoint& p, const BranchPointReport& r, bool validated,
                bool has_reference) {
   json w = json::array();
@@ -184,6 +215,12 @@ json PointJson(const ContinuationSummary& c, const ContinuationPoint& p, const B
   if (has_reference)
     point["reference"] = {{"frequency_error", JsonNumber(r.frequency_error)},
                           {"amplitude_error", JsonNumber(r.amplitude_error)}};
+  if (!std::isnan(r.outermost)) {
+    point["outermost"] = JsonNumber(r.outermost);
+    point["ratio"] = JsonNumber(r.ratio);
+    point["stretch"] = r.segment;
+  }
+  if (const auto& l = r.lyapunov) point["lyapunov"] = LyapunovJson(*l);
   if (const auto& d = r.definitions) {
     point["physical"] = d->physical;
     point["definition_error"] = JsonNumber(d->error);
@@ -198,6 +235,30 @@ json PointsJson(const ContinuationSummary& c, const std::vector<BranchPointRepor
   for (size_t i = 0; i < c.points.size(); ++i)
     points.push_back(PointJson(c, c.points[i], reports[i], validated, has_reference));
   return points;
+}
+
+json TongueJson(const TongueReport& t) {
+  json locked = json::array();
+  for (const ContinuationSummary& l : t.locked) {
+    json points = json::array();
+    for (const ContinuationPoint& p : l.points)
+      points.push_back({{"parameter", JsonNumber(p.parameter)}, {"amplitude", JsonNumber(PeakValue(p.solution))},
+                        {"residual", JsonNumber(p.residual)}, {"fold", p.fold},
+                        {"stability", ToString(p.stability)}, {"max_multiplier", JsonNumber(p.max_multiplier)}});
+    locked.push_back({{"status", ToString(l.status)}, {"message", l.message}, {"points", points}});
+  }
+  return {{"p", t.lock.p},
+          {"q", t.lock.q},
+          {"crossed", t.crossed},
+          {"message", t.message},
+          {"torus_end", JsonNumber(t.torus_end)},
+          {"ratio_end", JsonNumber(t.ratio_end)},
+          {"centre_estimate", JsonNumber(t.centre_estimate)},
+          {"locked_start", t.locked_start},
+          {"near_edge", JsonNumber(t.near_edge)},
+          {"far_edge", JsonNumber(t.far_edge)},
+          {"resumed_at", JsonNumber(t.resumed_at)},
+          {"locked", locked}};
 }
 
 json TorusJson(const TorusReport& t) {
@@ -267,6 +328,9 @@ std::string ContinueOptions::IsValid() const {
   if (switch_branches && natural) return "continuation: switching branches follows them by pseudo-arclength";
   if (!(torus_periods > 0) || !(validate_tolerance > 0)) return "continuation: torus_periods and validate_tolerance must be > 0";
   if (const std::string why = torus.IsValid(); !why.empty()) return "continuation: torus: " + why;
+  if (!(tail_tolerance > 0)) return "continuation: tail_tolerance must be > 0";
+  if (max_denominator < 1 || max_tongues < 0) return "continuation: max_denominator must be >= 1, max_tongues >= 0";
+  if (const std::string why = torus_stability.IsValid(); !why.empty()) return "continuation: torus stability: " + why;
   return "";
 }
 
@@ -277,6 +341,260 @@ bool BranchSummary::switch_failed() const {
     if (!t.start.solved) return true;
   return false;
 }
+
+namespace {
+
+// Tori (METHOD.md s.18): the trace stops where the basis given no longer
+// resolves the torus (its outermost coefficients exceed the tolerance).
+std::function<std::string(const ContinuationPoint&)> TailWatch(double tolerance) {
+  return [tolerance](const ContinuationPoint& p) -> std::string {
+    const double tail = OutermostCoefficients(p.solution);
+    if (tail <= tolerance) return "";
+    const auto& w = p.solution.frequencies();
+    char text[300];
+    std::snprintf(text, sizeof text,
+                  "the outermost coefficients reach %.2e of the solution (> tail tolerance %.1e): the basis no "
+                  "longer resolves the torus (w2/w1 = %.10g)",
+                  tail, tolerance, w[1] / w[0]);
+    return text;
+  };
+}
+
+// Where the locked orbit is first sought: the beat Omega = q w2 - p w1
+// vanishes at the tongue's edges; near them Omega^2 is close to a quadratic
+// in the parameter (Adler's phase equation: Omega^2 = (lambda - c)^2 - a^2,
+// edges c -+ a), so the last three points give the centre c and the near
+// edge. Accepted when that edge lies ahead, before `end`: else NaN.
+double TongueCentre(const std::vector<ContinuationPoint>& points, const Resonance& lock, double direction,
+                    double end) {
+  const int n = static_cast<int>(points.size());
+  if (n < 3) return NAN;
+  auto beat2 = [&](int i) {
+    const auto& w = points[i].solution.frequencies();
+    return std::pow(lock.q * w[1] - lock.p * w[0], 2);
+  };
+  // In u = lambda - lambda_last (no cancellation): Omega^2 = a u^2 + b u + c.
+  const double x2 = points[n - 1].parameter;
+  const double u0 = points[n - 3].parameter - x2, u1 = points[n - 2].parameter - x2;
+  const double d01 = (beat2(n - 2) - beat2(n - 3)) / (u1 - u0), d12 = (beat2(n - 1) - beat2(n - 2)) / (-u1);
+  const double a = (d12 - d01) / (-u0), b = d01 - a * (u0 + u1), c = beat2(n - 1);
+  const double discriminant = b * b - 4 * a * c;
+  if (!(a > 0) || !(discriminant > 0)) return NAN;
+  const double centre = -b / (2 * a), half_width = std::sqrt(discriminant) / (2 * a);
+  const double near_edge = centre - direction * half_width;  // relative to x2
+  return direction * near_edge > 0 && direction * (x2 + near_edge - end) < 0 ? x2 + centre : NAN;
+}
+
+// The resonance the stopped torus is meeting: the smallest q whose tongue
+// TongueCentre places ahead (the widest: tongues narrow fast with q).
+bool NearestTongue(const std::vector<ContinuationPoint>& points, int max_denominator, double direction, double end,
+                   TongueReport* t) {
+  for (int q = 1; q <= max_denominator; ++q) {
+    const Resonance lock{static_cast<int>(std::lround(t->ratio_end * q)), q, 0};
+    if (lock.p < 1) continue;
+    const double centre = TongueCentre(points, lock, direction, end);
+    if (std::isnan(centre)) continue;
+    t->lock = lock;
+    t->lock.distance = std::abs(t->ratio_end - static_cast<double>(lock.p) / q);
+    t->centre_estimate = centre;
+    return true;
+  }
+  return false;
+}
+
+// The periodic harmonic balance options for the locked orbit: the order
+// that holds the torus' harmonics m q + n p.
+HarmonicBalanceOptions LockedOptions(const HarmonicBalanceOptions& torus, int order) {
+  HarmonicBalanceOptions o = torus;
+  o.order = order;
+  o.basis_for_order = nullptr;
+  o.shape = BasisShape::kDiamond;
+  o.samples.clear();
+  o.tolerance = 0;
+  return o;
+}
+
+// The first fold of a locked trace: a tongue's edge (NaN: none).
+double FirstFold(const ContinuationSummary& s) {
+  for (const ContinuationPoint& p : s.points)
+    if (p.fold) return p.parameter;
+  return NAN;
+}
+
+// The locked branch from inside the tongue (at t->centre_estimate) toward
+// the near end and the far end; the edges are its folds.
+bool TraceLockedBranch(const Model& model, const ContinueOptions& o, const ContinuationOptions& options,
+                       const ContinuationPoint& last, TongueReport* t) {
+  const Resonance lock = t->lock;
+  auto locked_at = [&model, name = o.parameter, lock](double v) {
+    return LockedModel(WithParameters(model, {{name, v}}), lock);
+  };
+  ContinuationOptions locked = options;
+  // Across a tongue the locked orbit's phase turns by ~pi: its coefficients,
+  // not the parameter, make the arclength; steps in proportion.
+  locked.max_step = std::abs(o.to - o.from);
+  locked.initial_step = locked.max_step / 20;
+  locked.harmonic_balance =
+      LockedOptions(o.harmonic_balance, LockedSolution(last.solution, lock, 0.0).basis().order());
+  // Inside the tongue the torus carries the locked orbits: the torus at the
+  // rotation number p/q, its second angle turned by a phase, is a guess;
+  // a few phases, until one converges to an orbit of the torus' size (not,
+  // e.g., the small unstable orbit inside it).
+  const Model model_in = locked_at(t->centre_estimate);
+  const double peak = PeakValue(last.solution);
+  std::optional<HarmonicSolution> start;
+  std::string why;
+  for (int j = 0; j < 8 && !start; ++j) {
+    const HarmonicBalanceSummary s = SolveHarmonicBalance(
+        model_in.problem, LockedSolution(last.solution, lock, 2 * M_PI * j / 8), locked.harmonic_balance);
+    if (s.usable() && std::abs(PeakValue(*s.solution) - peak) <= 0.2 * peak) start = s.solution;
+    why = s.usable() ? "an orbit of another size" : s.BriefReport();
+    t->locked_start = "torus at p/q, phase " + std::to_string(j) + "/8";
+  }
+  if (!start) {
+    t->message = "no locked orbit near the torus at " + o.parameter + " = " + std::to_string(t->centre_estimate) +
+                 " from 8 phases (last: " + why + ")";
+    t->locked_start.clear();
+    return false;
+  }
+  for (double end : {last.parameter, o.to}) {
+    const ContinuationProblem problem = ModelContinuationProblem(locked_at, o.parameter, t->centre_estimate, end);
+    t->locked.push_back(TraceBranch(problem, *start, locked));
+  }
+  t->near_edge = FirstFold(t->locked[0]);
+  t->far_edge = FirstFold(t->locked[1]);
+  if (std::isnan(t->near_edge)) t->message = "the locked branch has no fold toward the torus side: " + t->locked[0].message;
+  if (std::isnan(t->far_edge))
+    t->message = t->locked[1].completed() ? "locked to the end of the range" : "the locked branch has no far fold: " + t->locked[1].message;
+  return std::isfinite(t->near_edge) && std::isfinite(t->far_edge);
+}
+
+// The torus past the far edge, as far from it as the last torus was from the
+// near one (farther while its outermost coefficients are too large): from
+// the last torus with its rotation number mirrored about p/q, else the
+// automatic start.
+std::optional<HarmonicSolution> ResumeTorus(const Model& model, const ContinueOptions& o,
+                                            const ContinuationPoint& last, TongueReport* t) {
+  const double direction = o.to > o.from ? 1 : -1;
+  double distance = std::max(std::abs(last.parameter - t->near_edge), 1e-4 * std::abs(o.to - o.from));
+  // The beat q w2 - p w1 changes sign across the tongue: its mirror image.
+  const auto& w_end = last.solution.frequencies();
+  const double beat = t->lock.q * w_end[1] - t->lock.p * w_end[0];
+  std::string why;
+  for (int attempt = 0; attempt < 5; ++attempt, distance *= 1.5) {
+    double at = t->far_edge + direction * distance;
+    if (direction * (at - o.to) > 0) {
+      if (attempt > 0 && direction * (t->far_edge + direction * distance / 1.5 - o.to) >= 0) break;
+      at = o.to;
+    }
+    const Model here = WithParameters(model, {{o.parameter, at}});
+    const double w1 = here.problem.frequencies[0];
+    const HarmonicSolution guess = last.solution.WithFrequencies({w1, (t->lock.p * w1 - beat) / t->lock.q});
+    const StartedSolve s = SolveFromAnyStart(here, guess, o.harmonic_balance);
+    if (s.summary.usable()) {
+      const double tail = OutermostCoefficients(*s.summary.solution);
+      if (tail <= o.tail_tolerance) {
+        t->resumed_at = at;
+        return s.summary.solution;
+      }
+      why = "outermost coefficients " + std::to_string(tail) + " at " + std::to_string(at);
+    } else {
+      why = s.summary.BriefReport() + " at " + std::to_string(at);
+    }
+    if (at == o.to) break;
+  }
+  t->message = "no resolved torus found past the far edge before the end of the range (last: " + why + ")";
+  return std::nullopt;
+}
+
+// Across the tongue the torus stopped at: the locked branch, its edges,
+// and the torus past it (nullopt when the branch ends here).
+std::optional<HarmonicSolution> CrossTongue(const Model& model, const ContinueOptions& o,
+                                            const ContinuationOptions& options, const ContinuationSummary& s,
+                                            TongueReport* t) {
+  const ContinuationPoint& last = s.points.back();
+  const auto& w = last.solution.frequencies();
+  t->torus_end = last.parameter;
+  t->ratio_end = w[1] / w[0];
+  if (!NearestTongue(s.points, o.max_denominator, o.to > o.from ? 1 : -1, o.to, t)) {
+    t->lock = NearestResonance(t->ratio_end, o.max_denominator);
+    t->message = "no locking tongue ahead (the beat q w2 - p w1 of no q <= " + std::to_string(o.max_denominator) +
+                 " falls toward 0 there): the basis, not a resonance, limits the torus; raise the order";
+    return std::nullopt;
+  }
+  if (!TraceLockedBranch(model, o, options, last, t)) return std::nullopt;
+  std::optional<HarmonicSolution> resumed = ResumeTorus(model, o, last, t);
+  t->crossed = resumed.has_value();
+  return resumed;
+}
+
+// Appends a later stretch of the torus branch to the first.
+void AppendStretch(ContinuationSummary stretch, ContinuationSummary* branch) {
+  const double offset = branch->arclength;
+  for (ContinuationPoint& p : stretch.points) {
+    p.arclength += offset;
+    p.bifurcation = -1;
+    branch->points.push_back(std::move(p));
+  }
+  branch->status = stretch.status;
+  branch->message = stretch.message;
+  branch->accepted_steps += stretch.accepted_steps;
+  branch->rejected_steps += stretch.rejected_steps;
+  branch->corrector_iterations += stretch.corrector_iterations;
+  branch->arclength += stretch.arclength;
+  branch->seconds += stretch.seconds;
+}
+
+}  // namespace
+
+namespace {
+
+// The branch, and its reports. A torus' trace stops where the basis no
+// longer resolves it; a forced one is then taken across the locking tongue
+// (CrossTongue) and traced on past it, stretch by stretch.
+void TraceModelBranch(const Model& model, const ContinueOptions& o, ContinuationProblem problem,
+                      const ContinuationOptions& options, HarmonicSolution first, BranchSummary* b) {
+  const bool torus = b->bases > 1;
+  if (torus) problem.stop_when = TailWatch(o.tail_tolerance);
+  for (int stretch = 0;; ++stretch) {
+    ContinuationSummary s = TraceBranch(problem, first, options);
+    const size_t before = stretch == 0 ? 0 : b->continuation.points.size();
+    if (stretch == 0)
+      b->continuation = std::move(s);
+    else
+      AppendStretch(std::move(s), &b->continuation);
+    const ContinuationSummary& c = b->continuation;
+    for (size_t i = before; i < c.points.size(); ++i) {
+      b->reports.push_back(ReportPoint(model, o, c, c.points[i]));
+      b->reports.back().segment = stretch;
+    }
+    // A torus' stability is its Lyapunov exponents (the report's), not the
+    // Floquet multipliers the trace looks for.
+    if (torus && o.stability) b->continuation.stability_note.clear();
+    const bool stopped = c.status == ContinuationStatus::kStopped || c.status == ContinuationStatus::kStepTooSmall;
+    if (!torus || !stopped || !o.locking || !IsForcedTorus(model) || stretch >= o.max_tongues ||
+        c.points.size() - before < 2)
+      return;
+    TongueReport t;
+    const std::vector<ContinuationPoint> last(c.points.begin() + static_cast<long>(before), c.points.end());
+    ContinuationSummary tail = c;
+    tail.points = last;
+    std::optional<HarmonicSolution> resumed = CrossTongue(model, o, options, tail, &t);
+    b->tongues.push_back(std::move(t));
+    if (!resumed) {
+      if (b->tongues.back().message == "locked to the end of the range") {
+        b->continuation.status = ContinuationStatus::kCompleted;
+        b->continuation.message = "locked from " + o.parameter + " = " +
+                                  std::to_string(b->tongues.back().near_edge) + " to the end of the range";
+      }
+      return;
+    }
+    problem.start = b->tongues.back().resumed_at;
+    first = *resumed;
+  }
+}
+
+}  // namespace
 
 BranchSummary ContinueModel(const Model& model, const HarmonicSolution& guess, const ContinueOptions& o) {
   if (const std::string error = o.IsValid(); !error.empty()) throw std::invalid_argument(error);
@@ -296,14 +614,12 @@ BranchSummary ContinueModel(const Model& model, const HarmonicSolution& guess, c
   const StartedSolve started = SolveFromAnyStart(start, guess, o.harmonic_balance);
   BranchSummary b;
   b.start_route = started.route;
-  b.continuation = TraceBranch(problem, started.summary.usable() ? *started.summary.solution : guess, options);
   b.has_reference = start.reference.has_frequency() || start.reference.has_amplitude();
   b.validated = o.validate;
   b.bases = static_cast<int>(start.problem.frequencies.size());
-  for (size_t i = 0; i < b.continuation.points.size(); ++i) {
-    b.reports.push_back(ReportPoint(model, o, b.continuation, b.continuation.points[i]));
-    if (!b.reports.back().physical()) b.non_physical.push_back(i);
-  }
+  TraceModelBranch(model, o, problem, options, started.summary.usable() ? *started.summary.solution : guess, &b);
+  for (size_t i = 0; i < b.continuation.points.size(); ++i)
+    if (!b.reports[i].physical()) b.non_physical.push_back(i);
   b.switched = o.switch_branches;
   if (o.switch_branches) SwitchBranches(model, o, problem, options, &b);
   const ContinuationStatus status = b.continuation.status;
@@ -316,6 +632,69 @@ BranchSummary ContinueModel(const Model& model, const HarmonicSolution& guess, c
   return b;
 }
 
+namespace {
+
+// A torus branch's adequacy and stability in two lines: the largest
+// outermost coefficients, and the Lyapunov verdicts with their cost.
+std::string TorusLines(const ContinuationSummary& c, const std::vector<BranchPointReport>& reports) {
+  if (reports.empty() || std::isnan(reports[0].outermost)) return "";
+  double worst = 0, seconds = 0, tolerance = 0, trivial = 0;
+  int counts[4] = {0, 0, 0, 0}, computed = 0;
+  long steps = 0;
+  for (const BranchPointReport& r : reports) {
+    worst = std::max(worst, r.outermost);
+    if (!r.lyapunov || !r.lyapunov->ok) continue;
+    ++computed;
+    ++counts[static_cast<int>(r.lyapunov->stability)];
+    seconds += r.lyapunov->seconds;
+    steps += r.lyapunov->steps;
+    tolerance = std::max(tolerance, r.lyapunov->tolerance);
+    trivial = std::max(trivial, r.lyapunov->trivial_max);
+  }
+  char text[500];
+  std::snprintf(text, sizeof text, "tori: outermost coefficients at most %.2e of the solution (order %d)\n", worst,
+                c.order);
+  std::string out = text;
+  if (computed > 0) {
+    std::snprintf(text, sizeof text,
+                  "tori: stability by Lyapunov exponents of the original equations at %d points: %d stable, %d "
+                  "unstable, %d neutral, %d unknown (largest tolerance %.1e; trivial exponents at most %.1e); cost "
+                  "%.3g ms and %ld CVODE steps per point\n",
+                  computed, counts[static_cast<int>(PointStability::kStable)],
+                  counts[static_cast<int>(PointStability::kUnstable)], counts[static_cast<int>(PointStability::kNeutral)],
+                  counts[static_cast<int>(PointStability::kUnknown)], tolerance, trivial, 1e3 * seconds / computed,
+                  steps / computed);
+    out += text;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string TongueReport::Describe(const std::string& parameter) const {
+  char text[600];
+  std::snprintf(text, sizeof text, "the torus stopped at %s = %.10g (w2/w1 = %.10g)", parameter.c_str(), torus_end,
+                ratio_end);
+  std::string out = text;
+  if (std::isnan(centre_estimate)) return out + "; " + message;
+  std::snprintf(text, sizeof text, "locking tongue %d:%d (w2/w1 = %d/%d): ", lock.p, lock.q, lock.p, lock.q);
+  out = text + out;
+  std::snprintf(text, sizeof text, "; locked orbit of base w1/%d solved at %.10g (%s)", lock.q, centre_estimate,
+                locked_start.empty() ? "no start converged" : locked_start.c_str());
+  out += text;
+  if (std::isfinite(near_edge) && std::isfinite(far_edge)) {
+    std::snprintf(text, sizeof text, "; locked between %s = %.12g and %.12g (folds of the locked branch)",
+                  parameter.c_str(), std::min(near_edge, far_edge), std::max(near_edge, far_edge));
+    out += text;
+  }
+  if (crossed) {
+    std::snprintf(text, sizeof text, "; the torus resumed at %s = %.10g", parameter.c_str(), resumed_at);
+    out += text;
+  }
+  if (!message.empty()) out += "; " + message;
+  return out;
+}
+
 std::string BranchSummary::BriefReport() const { return continuation.BriefReport(); }
 
 std::string BranchSummary::FullReport(bool table) const {
@@ -323,7 +702,15 @@ std::string BranchSummary::FullReport(bool table) const {
   if (start_route != "guess" && !start_route.empty()) out += "first point from the " + start_route + " start\n";
   if (!continuation.message.empty()) out += continuation.message + "\n";
   out += StabilityLines(continuation, true);
+  out += TorusLines(continuation, reports);
   if (table) out += Table(continuation, reports, validated, has_reference);
+  for (const TongueReport& t : tongues) {
+    out += "\n" + t.Describe(continuation.parameter) + "\n";
+    for (const ContinuationSummary& l : t.locked) {
+      out += "  locked branch: " + l.BriefReport() + "\n";
+      if (!l.message.empty()) out += "  " + l.message + "\n";
+    }
+  }
   for (const DoubledBranchReport& d : doubled) {
     char text[200];
     if (!d.branch.branch) {
@@ -381,6 +768,11 @@ json BranchSummary::ToJson() const {
               {"arclength", JsonNumber(c.arclength)},
               {"seconds", c.seconds},
               {"branch", PointsJson(c, reports, validated, has_reference)}};
+  if (bases > 1) {
+    json t = json::array();
+    for (const TongueReport& tongue : tongues) t.push_back(TongueJson(tongue));
+    out["tongues"] = t;
+  }
   if (!switched) return out;
   json doubled_json = json::array(), tori_json = json::array();
   for (const DoubledBranchReport& d : doubled) {

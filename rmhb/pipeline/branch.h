@@ -38,6 +38,7 @@
 #include "rmhb/continuation.h"
 #include "rmhb/definition_check.h"
 #include "rmhb/pipeline/model.h"
+#include "rmhb/pipeline/torus.h"
 
 namespace rmhb {
 
@@ -59,6 +60,19 @@ struct ContinueOptions {
   TorusOptions torus;
   double torus_periods = 20;
   double validate_tolerance = 1e-8;
+  // Quasi-periodic models (METHOD.md s.18): every point's outermost
+  // coefficients (OutermostCoefficients) are checked, and the trace of the
+  // torus stops where they exceed tail_tolerance: the basis given no longer
+  // resolves it. Its stability: Lyapunov exponents (TorusStability).
+  double tail_tolerance = 1e-6;
+  TorusStabilityOptions torus_stability;
+  // A forced torus that stops near w2/w1 = p/q (q <= max_denominator) is
+  // taken across the locking tongue: the periodic orbit of base w1/q is
+  // solved inside it and followed to both edges (its folds), and the torus
+  // is solved again past the far edge and traced on (at most max_tongues).
+  bool locking = true;
+  int max_denominator = 10;
+  int max_tongues = 8;
   std::string IsValid() const;  // empty when valid
 };
 
@@ -69,6 +83,13 @@ struct BranchPointReport {
   // Against the model's exact reference at this parameter value, if any.
   double frequency_error = NAN, amplitude_error = NAN;
   std::optional<DefinitionCheck> definitions;  // when the model has auxiliaries
+  // Tori: the outermost coefficients (adequacy of the basis), w2/w1, the
+  // Lyapunov exponents (with stability), and which stretch of torus branch
+  // (0, then 1 past the first locking tongue, ...) the point is on.
+  double outermost = NAN;
+  double ratio = NAN;
+  std::optional<TorusStabilityReport> lyapunov;
+  int segment = 0;
   // The larger of the two errors that exist.
   double reference_error() const;
   bool physical() const { return !definitions || definitions->physical; }
@@ -99,6 +120,24 @@ struct TorusReport {
   double periods = 0;  // of the forcing, validated over
 };
 
+// A locking tongue met along a forced torus' branch: where the torus
+// stopped, the locked periodic branch (base w1/q) followed from inside the
+// tongue toward each edge, the edges (its folds), and where the torus
+// resumed past the far one.
+struct TongueReport {
+  Resonance lock;                   // w2 / w1 = lock.p / lock.q
+  bool crossed = false;             // both edges found and the torus resumed past them
+  std::string message;
+  double torus_end = NAN;           // the last torus point before the tongue
+  double ratio_end = NAN;           // its w2/w1
+  double centre_estimate = NAN;     // where the locked orbit was first solved
+  std::string locked_start;         // how (SolveFromAnyStart's route)
+  double near_edge = NAN, far_edge = NAN;  // the folds, in the order the branch meets them
+  double resumed_at = NAN;          // the first torus point past the tongue
+  std::vector<ContinuationSummary> locked;  // toward the near edge, toward the far edge
+  std::string Describe(const std::string& parameter) const;
+};
+
 struct BranchSummary {
   BranchStatus status = BranchStatus::kStopped;
   std::string message;
@@ -112,6 +151,7 @@ struct BranchSummary {
   bool switched = false;    // switch_branches was asked for
   std::vector<DoubledBranchReport> doubled;
   std::vector<TorusReport> tori;
+  std::vector<TongueReport> tongues;  // a forced torus' locking tongues
   bool switch_failed() const;
 
   std::string BriefReport() const;  // the continuation's line

@@ -36,6 +36,10 @@ std::vector<BranchRow> BranchRows(const ContinuationSummary& summary, const std:
     else if (p.bifurcation >= 0) row.mark = ShortName(summary.bifurcations[p.bifurcation].type);
     if (plot_var == "frequency") {
       row.value = p.solution.frequencies()[0];
+    } else if (plot_var == "ratio") {
+      const auto& w = p.solution.frequencies();
+      if (w.size() != 2) throw std::invalid_argument("--plot-var ratio: w2/w1 needs a branch of tori (two bases)");
+      row.value = w[1] / w[0];
     } else {
       const int j = plot_var.empty() ? 0 : p.solution.IndexOf(plot_var);
       if (j < 0) {
@@ -52,12 +56,18 @@ std::vector<BranchRow> BranchRows(const ContinuationSummary& summary, const std:
   return rows;
 }
 
+std::vector<BranchRow> LockedRows(const ContinuationSummary& locked, double ratio, int branch) {
+  std::vector<BranchRow> rows = BranchRows(locked, "frequency", branch);
+  for (BranchRow& r : rows) r.value = ratio, r.family = "locked";
+  return rows;
+}
+
 void WriteBranchData(const std::vector<BranchRow>& rows, const std::string& parameter, const std::string& plot_var,
                      const std::string& file) {
   std::ofstream out(file);
   if (!out) throw std::invalid_argument("--plot: cannot write '" + file + "'");
   out.precision(17);
-  out << "# " << parameter << " " << (plot_var == "frequency" ? "frequency" : "amplitude")
+  out << "# " << parameter << " " << (plot_var == "frequency" || plot_var == "ratio" ? plot_var : "amplitude")
       << " stability fold mark branch\n";
   for (const BranchRow& r : rows)
     out << r.parameter << " " << r.value << " " << r.stability << " " << r.fold << " " << r.mark << " " << r.branch
@@ -66,8 +76,10 @@ void WriteBranchData(const std::vector<BranchRow>& rows, const std::string& para
 
 void PlotBranch(const std::vector<BranchRow>& rows, const std::string& title, const std::string& parameter,
                 const std::string& plot_var, const std::string& file) {
-  const std::string y = plot_var == "frequency" ? "frequency w" : "max |" + plot_var + "(t)|";
-  PlotPanel panel{"branch: solid stable, dashed unstable, dotted neutral or unknown; period-2T branches in green",
+  const std::string y = plot_var == "frequency" ? "frequency w"
+                        : plot_var == "ratio" ? "rotation number w2/w1"
+                                              : "max |" + plot_var + "(t)|";
+  PlotPanel panel{"branch: solid stable, dashed unstable, dotted neutral or unknown; period-2T or locked branches in green",
                   parameter, y, false, false, {}};
   // One series per run of equal stability on one branch; neighbours share
   // their end point so the line has no gaps. One legend entry per kind.
@@ -76,7 +88,7 @@ void PlotBranch(const std::vector<BranchRow>& rows, const std::string& title, co
     size_t j = i;
     while (j + 1 < rows.size() && rows[j + 1].stability == rows[i].stability && rows[j + 1].branch == rows[i].branch) ++j;
     const StabilityStyle& style = StyleOf(rows[i].stability);
-    const std::string name = rows[i].branch == 0 ? style.name : std::string("period 2T, ") + style.name;
+    const std::string name = rows[i].branch == 0 ? style.name : rows[i].family + ", " + style.name;
     PlotSeries s{name, {}, {}, PlotSeries::Style::kLines, {}, style.dash, rows[i].branch == 0 ? style.color : "#2ca02c"};
     s.in_key = std::find(titled.begin(), titled.end(), name) == titled.end();
     if (s.in_key) titled.push_back(name);

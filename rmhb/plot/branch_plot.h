@@ -22,12 +22,18 @@ struct BranchRow {
   std::string stability;  // stable, unstable, neutral, unknown
   bool fold = false;
   std::string mark = "-";  // fold, BP, PD, NS, or "-"
-  int branch = 0;          // 0: the branch traced; k: the k-th period-2T branch
+  int branch = 0;          // 0: the branch traced; k: the k-th period-2T (or locked) branch
+  std::string family = "period 2T";  // what branch k > 0 is, for the legend
 };
 
-// What is plotted of a point: "frequency" or a variable's name (its
-// amplitude). Throws std::invalid_argument naming the variables otherwise.
+// What is plotted of a point: "frequency", "ratio" (w2/w1 of a torus: the
+// devil's staircase) or a variable's name (its amplitude). Throws
+// std::invalid_argument naming the variables otherwise.
 std::vector<BranchRow> BranchRows(const ContinuationSummary& summary, const std::string& plot_var, int branch = 0);
+
+// A locked branch (rmhb/pipeline/branch.h TongueReport) on the staircase:
+// every point at w2/w1 = `ratio` (p/q), with its stability and folds.
+std::vector<BranchRow> LockedRows(const ContinuationSummary& locked, double ratio, int branch);
 
 // FILE.dat: a header line, then one row per point.
 void WriteBranchData(const std::vector<BranchRow>& rows, const std::string& parameter, const std::string& plot_var,

@@ -10,6 +10,40 @@
 
 namespace rmhb::plot {
 
+namespace {
+
+// A 2-torus cut at theta1 = 0: the closed curve z(0, theta2) of the
+// solution, and the original equations' trajectory from its state at t = 0
+// sampled every period 2 pi / w1 of the first base (a stroboscopic map:
+// theta1 = 2 pi k there), whose points fall on the curve when the torus is
+// the attractor or invariant set it claims to be.
+PlotPanel TorusSection(const Model& source, const HarmonicSolution& sol) {
+  PlotPanel section{"torus section theta1 = 0: harmonic balance (line) against CVODE every 2 pi / w1 (points)",
+                    source.state_names[0], source.state_names[1], false, false, {}};
+  PlotSeries curve{"HB z(0, theta2)", {}, {}, PlotSeries::Style::kLines, {}};
+  for (int i = 0; i <= 400; ++i) {
+    const Eigen::VectorXd y = source.state(sol.Shifted({0.0, 2 * M_PI * i / 400}), 0.0);
+    curve.x.push_back(y(0));
+    curve.y.push_back(y(1));
+  }
+  const double T1 = 2 * M_PI / sol.frequencies()[0];
+  std::vector<double> times;
+  for (int k = 0; k < 400; ++k) times.push_back(k * T1);
+  integrators::IntegratorOptions io;
+  io.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
+  io.relative_tolerance = 1e-12;
+  io.absolute_tolerance = 1e-14;
+  const integrators::IntegrationResult r =
+      integrators::IntegrateOde(source.original(sol.frequencies()), source.state(sol, 0.0), 0.0, times, io);
+  PlotSeries points{"CVODE, 400 periods of w1", {}, {}, PlotSeries::Style::kPoints, {}};
+  for (int i = 0; i < r.trajectory.size(); ++i)
+    points.x.push_back(r.trajectory.states(i, 0)), points.y.push_back(r.trajectory.states(i, 1));
+  section.series = {curve, points};
+  return section;
+}
+
+}  // namespace
+
 void PlotSolution(const Model& source, const HarmonicSolution& sol, const std::string& file) {
   const double period = 2 * M_PI / *std::min_element(sol.frequencies().begin(), sol.frequencies().end());
   std::vector<double> times(801);
@@ -56,6 +90,7 @@ void PlotSolution(const Model& source, const HarmonicSolution& sol, const std::s
   Plot plot{source.name + ": " + source.equation, {response}};
   if (n) plot.panels.push_back(error);
   if (n > 1) plot.panels.push_back(phase);
+  if (n > 1 && sol.frequencies().size() == 2) plot.panels.push_back(TorusSection(source, sol));
   WritePlot(plot, file);
 }
 

@@ -18,8 +18,9 @@ namespace rmhb::plot {
 
 // Two periods of the slowest base: the solution against CVODE started on it
 // (the original equations, rtol 1e-13), their difference and the phase
-// portrait (solve --plot, analyze --plot). Without original equations: the
-// solution alone.
+// portrait (solve --plot, analyze --plot); a 2-torus also its section
+// theta1 = 0 against the CVODE trajectory every period of the first base.
+// Without original equations: the solution alone.
 void PlotSolution(const Model& model, const HarmonicSolution& solution, const std::string& file);
 
 // The windowed amplitude spectrum of the first channel, and every identified

@@ -155,6 +155,7 @@ SolveSettings Settings(std::optional<int> order, std::optional<int> p, std::opti
 
 struct Branch {
   Array parameter, frequency, amplitude, folds;
+  py::array_t<double> frequencies;  // points x bases (w1, w2 of a torus)
   py::array_t<bool> stable;
   std::vector<std::string> stability;  // stable, unstable, neutral, unknown
   std::string status, message;
@@ -227,13 +228,18 @@ class Model {
     std::vector<std::string> stability;
     py::array_t<bool> stable(static_cast<py::ssize_t>(summary.points.size()));
     auto flags = stable.mutable_unchecked<1>();
+    py::array_t<double> frequencies({static_cast<py::ssize_t>(summary.points.size()),
+                                     static_cast<py::ssize_t>(branch.bases)});
+    auto w = frequencies.mutable_unchecked<2>();
     for (size_t i = 0; i < summary.points.size(); ++i) {
       const ContinuationPoint& p = summary.points[i];
       lambda.push_back(p.parameter);
       frequency.push_back(p.solution.frequencies()[0]);
+      for (int b = 0; b < branch.bases; ++b)
+        w(static_cast<py::ssize_t>(i), b) = p.solution.frequencies()[static_cast<size_t>(b)];
       amplitude.push_back(branch.reports[i].peak);
-      stability.push_back(ToString(p.stability));
-      flags(static_cast<py::ssize_t>(i)) = p.stability == PointStability::kStable;
+      stability.push_back(branch.reports[i].stability);  // a torus': its Lyapunov verdict
+      flags(static_cast<py::ssize_t>(i)) = branch.reports[i].stability == "stable";
       if (p.fold) folds.push_back(p.parameter);
     }
     std::vector<std::string> methods;
@@ -249,7 +255,7 @@ class Model {
       if (b.type == BifurcationType::kNeimarkSacker) d["torus_frequency"] = b.torus_frequency;
       bifurcations.append(d);
     }
-    return Branch{ToArray(lambda), ToArray(frequency), ToArray(amplitude), ToArray(folds), stable, stability,
+    return Branch{ToArray(lambda), ToArray(frequency), ToArray(amplitude), ToArray(folds), frequencies, stable, stability,
                   ToString(summary.status), summary.message, methods, bifurcations};
   }
 
@@ -357,6 +363,7 @@ PYBIND11_MODULE(rmhb, m) {
   py::class_<Branch>(m, "Branch")
       .def_readonly("parameter", &Branch::parameter)
       .def_readonly("frequency", &Branch::frequency)
+      .def_readonly("frequencies", &Branch::frequencies)
       .def_readonly("amplitude", &Branch::amplitude)
       .def_readonly("stable", &Branch::stable)
       .def_readonly("stability", &Branch::stability)

@@ -76,6 +76,7 @@ def test_continuation_gives_numpy_columns_and_the_folds():
     n = b.parameter.shape[0]
     assert b.frequency.shape == b.amplitude.shape == b.stable.shape == (n,)
     assert b.stable.dtype == np.bool_
+    assert b.frequencies.shape == (n, 1) and (b.frequencies[:, 0] == b.frequency).all()
     ref = cli_json("solve", "duffing", "--set", "F=0.5", "--order", "15", "--continue", "w=0.5:3")
     np.testing.assert_allclose(b.folds, ref["folds"], rtol=1e-12)
     assert len(b.folds) == 2 and (~b.stable).sum() > 3

@@ -1,0 +1,39 @@
+#include "integrators/variational.h"
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+
+namespace rmhb::integrators {
+
+OdeSystem VariationalSystem(const OdeSystem& system, const JacobianFunction& jacobian_function) {
+  const int n = system.dimension;
+  OdeSystem augmented;
+  augmented.dimension = n + n * n;
+  augmented.rhs = [&system, jacobian_function, n](double t, const double* z, double* dz) {
+    system.rhs(t, z, dz);
+    Eigen::MatrixXd jacobian(n, n);
+    if (jacobian_function) {
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows(n, n);
+      jacobian_function(t, z, rows.data());
+      jacobian = rows;
+    } else {
+      const double step = std::cbrt(std::numeric_limits<double>::epsilon());
+      Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(z, n), plus(n), minus(n);
+      for (int i = 0; i < n; ++i) {
+        const double h = step * (1 + std::abs(z[i]));
+        y(i) = z[i] + h;
+        system.rhs(t, y.data(), plus.data());
+        y(i) = z[i] - h;
+        system.rhs(t, y.data(), minus.data());
+        y(i) = z[i];
+        jacobian.col(i) = (plus - minus) / (2 * h);
+      }
+    }
+    Eigen::Map<Eigen::MatrixXd>(dz + n, n, n) = jacobian * Eigen::Map<const Eigen::MatrixXd>(z + n, n, n);
+  };
+  return augmented;
+}
+
+}  // namespace rmhb::integrators

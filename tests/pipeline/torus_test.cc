@@ -1,0 +1,170 @@
+// Tori of a model beyond one solve (rmhb/pipeline/torus.h, the torus part
+// of rmhb/pipeline/branch.h), against references that use no harmonic
+// balance: exact Lyapunov exponents of linear systems, Liouville's formula
+// (the exponents of a torus of x'' - eps (1 - x^2) x' + x = F cos(w t) sum
+// to the time average of eps (1 - x^2); one is 0, so the other is known),
+// and a tongue's edge against the phase slips of CVODE trajectories on
+// either side of it. The model file is written for these tests, defaults
+// only (tests/pipeline/models/weakly-forced-vdp.yaml).
+
+#include "rmhb/pipeline/torus.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "integrators/cvode_integrator.h"
+#include "integrators/lyapunov.h"
+#include "rmhb/pipeline/analyze.h"
+#include "rmhb/pipeline/branch.h"
+#include "rmhb/pipeline/settings.h"
+
+namespace rmhb {
+namespace {
+
+constexpr const char* kVdp = "tests/pipeline/models/weakly-forced-vdp.yaml";
+
+TEST(LyapunovExponents, LinearSystemsExactly) {
+  // A damped rotation (-0.3 twice) and a growing mode (0.2): exact at any T.
+  integrators::OdeSystem normal{3, [](double, const double* y, double* dy) {
+                                  dy[0] = -0.3 * y[0] + y[1];
+                                  dy[1] = -y[0] - 0.3 * y[1];
+                                  dy[2] = 0.2 * y[2];
+                                }};
+  integrators::LyapunovOptions o;
+  o.integrator.relative_tolerance = 1e-10;
+  o.segment = 2;
+  o.segments = 50;
+  const auto r = integrators::LyapunovExponents(normal, Eigen::Vector3d(1, 0, 1), 0, o);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_NEAR(r.exponents[0], 0.2, 1e-8);
+  EXPECT_NEAR(r.exponents[1], -0.3, 1e-8);
+  EXPECT_NEAR(r.exponents[2], -0.3, 1e-8);
+  // Non-normal: the exponents -1, -2 come at a rate 1/T, which the spread shows.
+  integrators::OdeSystem sheared{2, [](double, const double* y, double* dy) {
+                                   dy[0] = -y[0] + 5 * y[1];
+                                   dy[1] = -2 * y[1];
+                                 }};
+  o.segments = 100;
+  const auto s = integrators::LyapunovExponents(sheared, Eigen::Vector2d(1, 1), 0, o);
+  ASSERT_TRUE(s.ok);
+  EXPECT_NEAR(s.exponents[0], -1, 3 * s.spread + 1e-9);
+  EXPECT_NEAR(s.exponents[1], -2, 3 * s.spread + 1e-9);
+  EXPECT_LT(s.spread, 0.02);
+  EXPECT_THROW(integrators::LyapunovExponents(sheared, Eigen::Vector3d(1, 1, 1), 0, o), std::invalid_argument);
+}
+
+TEST(Torus, OutermostCoefficientsAreTheRimOfAnyIndexSet) {
+  // Periodic, order 10, coefficient 10^-k at harmonic k: the rim is k = 9, 10.
+  const HarmonicBasis basis = HarmonicBasis::Periodic(10);
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(1, basis.num_coefficients());
+  double all = 0;
+  for (int k = 1; k <= 10; ++k) c(0, 2 * k - 1) = std::pow(10.0, -k), all += std::pow(10.0, -2 * k);
+  const HarmonicSolution s(basis, {1.0}, c, {Variable{"x", VariableRole::kState, ""}});
+  EXPECT_NEAR(OutermostCoefficients(s), std::sqrt((1e-18 + 1e-20) / all), 1e-22);
+  // A diamond: only its two outer layers |m| + |n| = p - 1, p count.
+  const HarmonicBasis diamond = HarmonicBasis::Diamond(2, 4);
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(1, diamond.num_coefficients());
+  d(0, 2 * diamond.Find({1, 0}) - 1) = 1;
+  d(0, 2 * diamond.Find({2, 1}) - 1) = 1e-3;  // level 3
+  d(0, 2 * diamond.Find({1, 1}) - 1) = 1e-1;  // level 2: inside
+  const HarmonicSolution t(diamond, {1.0, 0.7}, d, {Variable{"x", VariableRole::kState, ""}});
+  EXPECT_NEAR(OutermostCoefficients(t), 1e-3 / std::sqrt(1 + 1e-2 + 1e-6), 1e-15);
+}
+
+TEST(Torus, LockedSolutionIsTheTorusAtTheRationalRotationNumber) {
+  const HarmonicBasis basis = HarmonicBasis::Diamond(2, 4);
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(2, basis.num_coefficients());
+  for (int j = 0; j < c.cols(); ++j) c(0, j) = std::sin(1.0 + j), c(1, j) = std::cos(2.0 * j);
+  const double w = 1.3;
+  const Resonance lock{2, 3, 0};
+  const HarmonicSolution torus(basis, {w, w * 2 / 3}, c, {Variable{"x", VariableRole::kState, ""}, Variable{"y", VariableRole::kState, ""}});
+  const HarmonicSolution locked = LockedSolution(torus, lock, 0.4);
+  const HarmonicSolution turned = torus.Shifted({0, 0.4});
+  ASSERT_EQ(locked.frequencies().size(), 1u);
+  EXPECT_DOUBLE_EQ(locked.frequencies()[0], w / 3);
+  for (double t : {0.0, 0.7, 3.1, 11.9})
+    for (int v = 0; v < 2; ++v) EXPECT_NEAR(locked.Value(v, t), turned.Value(v, t), 1e-13);
+}
+
+// Phase slips of the forced oscillator against the forcing over `window`
+// periods after `transient` ones: 0 inside a 1:1 tongue, >= 1 outside it.
+int PhaseSlips(double w, int transient, int window) {
+  const double eps = 0.2, F = 0.1, T = 2 * M_PI / w;
+  integrators::OdeSystem vdp{2, [&](double t, const double* y, double* dy) {
+                               dy[0] = y[1];
+                               dy[1] = eps * (1 - y[0] * y[0]) * y[1] - y[0] + F * std::cos(w * t);
+                             }};
+  integrators::IntegratorOptions o;
+  o.relative_tolerance = 1e-9;
+  o.absolute_tolerance = 1e-11;
+  std::vector<double> times;
+  for (int k = 0; k <= 16 * window; ++k) times.push_back((transient + k / 16.0) * T);
+  const auto settle = integrators::IntegrateOde(vdp, Eigen::Vector2d(2, 0), 0, {transient * T}, o);
+  const Eigen::VectorXd y0 = settle.trajectory.states.row(0).transpose();
+  const auto r = integrators::IntegrateOde(vdp, y0, transient * T, times, o);
+  double turned = 0, previous = std::atan2(-y0(1), y0(0));
+  for (int k = 1; k < r.trajectory.states.rows(); ++k) {
+    const double angle = std::atan2(-r.trajectory.states(k, 1), r.trajectory.states(k, 0));
+    turned += std::remainder(angle - previous, 2 * M_PI);
+    previous = angle;
+  }
+  return static_cast<int>(std::lround(window - turned / (2 * M_PI)));
+}
+
+TEST(Torus, ForcedBranchStableByLyapunovAndAcrossTheOneToOneTongue) {
+  Model model = LoadModel(kVdp, {{"w", 1.09}});
+  SolveSettings settings;
+  settings.order = 16;
+  settings.shape = "diamond";
+  settings.shape_given = true;
+  const PreparedSolve prepared = PrepareSolve(model, settings);
+  ContinueOptions o;
+  o.parameter = "w";
+  o.from = 1.09;
+  o.to = 1.0;
+  o.harmonic_balance = prepared.options;
+  o.tail_tolerance = 1e-4;
+  o.steps = 5;  // the coefficients, not w, make the arclength: larger steps than w's range / 10
+  o.max_step = 0.05;
+  const BranchSummary b = ContinueModel(prepared.model, prepared.guess, o);
+  ASSERT_GE(b.continuation.points.size(), 3u) << b.FullReport();
+  // Every torus stable; Liouville: the transverse exponent is the average of
+  // eps (1 - x^2) over the torus, eps (1 - <x^2>) by Parseval.
+  for (size_t i = 0; i < b.continuation.points.size(); ++i) {
+    const BranchPointReport& r = b.reports[i];
+    ASSERT_TRUE(r.lyapunov && r.lyapunov->ok);
+    EXPECT_EQ(r.stability, "stable") << r.lyapunov->BriefReport();
+    const Eigen::MatrixXd& c = b.continuation.points[i].solution.coefficients();
+    const double mean_square = c(0, 0) * c(0, 0) + 0.5 * c.row(0).tail(c.cols() - 1).squaredNorm();
+    EXPECT_NEAR(r.lyapunov->max_exponent, 0.2 * (1 - mean_square), r.lyapunov->tolerance);
+    EXPECT_LE(r.outermost, 1e-4 * (i + 1 == b.continuation.points.size() ? 2 : 1));
+  }
+  // The 1:1 tongue: its near edge a fold of the locked branch, checked by
+  // CVODE 1e-4 to either side (no slip inside over 1500 periods, slips outside).
+  ASSERT_EQ(b.tongues.size(), 1u) << b.FullReport();
+  const TongueReport& t = b.tongues[0];
+  EXPECT_EQ(t.lock.p, 1);
+  EXPECT_EQ(t.lock.q, 1);
+  ASSERT_TRUE(std::isfinite(t.near_edge)) << t.Describe("w");
+  EXPECT_EQ(PhaseSlips(t.near_edge - 1e-4, 3000, 1500), 0);
+  EXPECT_GE(PhaseSlips(t.near_edge + 1e-4, 3000, 1500), 1);
+  EXPECT_EQ(b.status, BranchStatus::kCompleted) << b.message;  // locked to the end of the range
+}
+
+TEST(Torus, AnalyzeSaysLockedOrQuasiPeriodicAndSolvesThatOne) {
+  AnalyzeOptions o;
+  o.solve.order = 20;
+  const AnalyzeSummary locked = Analyze(LoadModel(kVdp, {{"w", 1.0}}), o);
+  EXPECT_EQ(locked.motion.rfind("locked 1:1", 0), 0u) << locked.motion;
+  ASSERT_TRUE(locked.ok()) << locked.FullReport();
+  EXPECT_EQ(locked.solve->solution->frequencies().size(), 1u);
+  EXPECT_DOUBLE_EQ(locked.solve->solution->frequencies()[0], 1.0);
+  const AnalyzeSummary torus = Analyze(LoadModel(kVdp, {{"w", 1.15}}), o);
+  EXPECT_EQ(torus.motion.rfind("quasi-periodic", 0), 0u) << torus.motion;
+  ASSERT_TRUE(torus.solve && torus.solve->usable()) << torus.FullReport();
+  EXPECT_EQ(torus.solve->solution->frequencies().size(), 2u);
+}
+
+}  // namespace
+}  // namespace rmhb
