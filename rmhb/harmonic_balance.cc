@@ -374,8 +374,9 @@ HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& probl
           s.solver.status == SolverStatus::kNoConvergence)
         if (s.solution && s.solver.final_residual < s.solver.initial_residual)
           guess = *s.solution;
-      if (converged_below && s.converged() && s.solution && s.solver.final_residual <= 1e-9)
-        *converged_below = s.solution;
+      // Converged (step below 1e-10: Newton's next error ~1e-20): the coarse
+      // order's own solution, however large its truncation.
+      if (converged_below && s.converged() && s.solution) *converged_below = s.solution;
     }
   }
   return SolveAtOrder(problem, guess, options);
