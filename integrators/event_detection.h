@@ -15,6 +15,8 @@
 namespace rmhb::integrators {
 
 using EventFunction = std::function<double(double t, const double* y)>;
+// Several event functions at once: writes g_1 .. g_n at (t, y) into g.
+using MultiEventFunction = std::function<void(double t, const double* y, double* g)>;
 
 // Integrates system from (t0, y0) to t_end (> t0) and returns, in increasing
 // order, the times in (t0, t_end] where g(t, y(t)) crosses zero in the given

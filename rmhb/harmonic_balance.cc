@@ -106,11 +106,12 @@ bool AliasCheck(const HarmonicBalanceProblem& problem, const HarmonicBalanceOpti
   const double scale = std::max(1.0, s.coefficients().cwiseAbs().maxCoeff());
   summary->alias_residual = F.size() ? F.cwiseAbs().maxCoeff() / scale : 0.0;
   summary->alias_check_samples = fine;
-  if (summary->alias_residual <= options.definition_check.floor) return true;
+  summary->alias_tolerance = problem.system.HasNonSmooth() ? kNonSmoothAliasFloor : options.definition_check.floor;
+  if (summary->alias_residual <= summary->alias_tolerance) return true;
   std::ostringstream why;
   why.precision(3);
   why << "the residual on " << total << " samples (twice the solve's) is " << summary->alias_residual
-      << " (relative) > " << options.definition_check.floor
+      << " (relative) > " << summary->alias_tolerance
       << ": the solution holds at the samples only (aliasing of the pointwise equations)";
   summary->physical = false;
   summary->non_physical = why.str();

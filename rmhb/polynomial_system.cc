@@ -28,6 +28,12 @@ int PolynomialSystem::AddPointwiseEquation(PointwiseEquation equation) {
   return num_equations() - 1;
 }
 
+bool PolynomialSystem::HasNonSmooth() const {
+  for (const Equation& e : equations_)
+    if (e.pointwise && e.pointwise->nonsmooth) return true;
+  return false;
+}
+
 bool PolynomialSystem::HasPointwise() const {
   return std::any_of(equations_.begin(), equations_.end(),
                      [](const Equation& e) { return e.pointwise != nullptr; });

@@ -45,6 +45,10 @@ struct PointwiseEquation {
   // moves by half the period of one base (x -> -x, t -> t + T/2): -1 or +1
   // when known to be invariant (HalfTurnSymmetry::EquationSign), 0 not.
   int half_wave_sign = 0;
+  // Piecewise smooth (max, abs, sign, ..., a Coulomb Lagrangian: METHOD.md
+  // s.15): its spectrum decays algebraically, so it needs far more samples
+  // than a smooth pointwise equation (SamplesForRule).
+  bool nonsmooth = false;
 };
 
 struct Equation {
@@ -67,6 +71,7 @@ class PolynomialSystem {
   // and Degree(), ForcingReach() and AliasFreeSamples() describe the
   // polynomial equations only.
   bool HasPointwise() const;
+  bool HasNonSmooth() const;  // a pointwise equation is piecewise smooth
 
   // Convenience for the builder API: sys.Var("x") or sys.Var(0).
   Polynomial Var(int j) const;

@@ -104,6 +104,12 @@ int FftFriendlySize(int m) {
   }
 }
 
+int NonSmoothSamples(int reach, int oversampling, int alias_free) {
+  int n = 1;
+  while (n < oversampling * reach + 1 || n < alias_free) n *= 2;
+  return n;
+}
+
 std::vector<int> SamplesForRule(const PolynomialSystem& system, const HarmonicBasis& basis,
                                 SamplingRule rule, std::vector<int>* alias_free) {
   std::vector<int> out, minimum;
@@ -111,6 +117,11 @@ std::vector<int> SamplesForRule(const PolynomialSystem& system, const HarmonicBa
   const bool pointwise = system.HasPointwise();
   for (int b = 0; b < basis.num_bases(); ++b) {
     const int reach = basis.Reach(b);
+    if (system.HasNonSmooth() && rule != SamplingRule::kHdhb) {
+      minimum.push_back(0);
+      out.push_back(NonSmoothSamples(reach, kNonSmoothOversampling, system.AliasFreeSamples(reach, b)));
+      continue;
+    }
     if (pointwise) {
       minimum.push_back(0);
       int n = 1;

@@ -60,7 +60,18 @@ int FftFriendlySize(int m);
 // (the harmonics that fold onto the kept ones are those beyond M - N >= 2N,
 // the square of the truncated tail for a geometrically decaying spectrum),
 // aft the power of two >= 4 reach + 1 (NLvib's rule), hdhb 2 reach + 1.
+// A piecewise-smooth pointwise equation (PolynomialSystem::HasNonSmooth)
+// takes the power of two >= kNonSmoothOversampling reach + 1 and at least the
+// polynomial equations' alias-free count, whatever the rule but hdhb: its
+// spectrum decays algebraically (a kink: |c_k| ~ k^-2), so the folded part
+// falls only like M^-2 (METHOD.md s.15, the measured rates in the README).
+// The polynomial equations stay exact on any grid above their alias-free
+// count (Theorem 1), so they keep RHB's treatment on the finer grid.
 constexpr int kPointwiseOversampling = 3;
+constexpr int kNonSmoothOversampling = 128;
+// The grid of a non-smooth system for `reach` harmonics with the given
+// oversampling (NonSmoothSamples(21) = 4096; NLvib's example 03 uses 1024).
+int NonSmoothSamples(int reach, int oversampling = kNonSmoothOversampling, int alias_free = 0);
 std::vector<int> SamplesForRule(const PolynomialSystem& system, const HarmonicBasis& basis,
                                 SamplingRule rule, std::vector<int>* alias_free = nullptr);
 

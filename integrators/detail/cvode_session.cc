@@ -75,6 +75,23 @@ int EventTrampoline(double t, N_Vector y, double* gout, void* user_data) {
   return 0;
 }
 
+int EventsTrampoline(double t, N_Vector y, double* gout, void* user_data) {
+  auto* callback = static_cast<CvodeSession::Callback*>(user_data);
+  if (!callback->diagnostics->callback_error.empty()) return -1;
+  try {
+    (*callback->events)(t, N_VGetArrayPointer(y), gout);
+  } catch (const std::exception& e) {
+    callback->diagnostics->RecordCallbackError(std::string("event functions threw: ") + e.what());
+    return -1;
+  }
+  for (int i = 0; i < callback->num_events; ++i)
+    if (!std::isfinite(gout[i])) {
+      callback->diagnostics->RecordCallbackError(NonFiniteMessage("event function", t, i, gout[i]));
+      return -1;
+    }
+  return 0;
+}
+
 }  // namespace
 
 void CvodeMemDeleter::operator()(void* mem) const { CVodeFree(&mem); }
@@ -178,6 +195,15 @@ bool CvodeSession::SetEventFunction(const EventFunction* g, int direction) {
          // rest); that is not worth a warning.
          Check(CVodeSetNoInactiveRootWarn(mem_.get()), "CVodeSetNoInactiveRootWarn");
 }
+
+bool CvodeSession::SetEventFunctions(int count, const MultiEventFunction* g) {
+  callback_.events = g;
+  callback_.num_events = count;
+  return Check(CVodeRootInit(mem_.get(), count, EventsTrampoline), "CVodeRootInit") &&
+         Check(CVodeSetNoInactiveRootWarn(mem_.get()), "CVodeSetNoInactiveRootWarn");
+}
+
+bool CvodeSession::RootsFound(int* found) { return Check(CVodeGetRootInfo(mem_.get(), found), "CVodeGetRootInfo"); }
 
 int CvodeSession::Advance(double tout, double* t_reached) {
   const long remaining = options_.max_steps - steps();

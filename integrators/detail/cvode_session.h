@@ -42,6 +42,12 @@ class CvodeSession {
   // Enables CVODE's root finding on a single event function; direction as
   // in FindCrossings. g must outlive the session.
   bool SetEventFunction(const EventFunction* g, int direction);
+  // Root finding on `count` functions at once, both directions (switching
+  // surfaces, integrators/switched_integration.h); g must outlive the
+  // session. After a CV_ROOT_RETURN, RootsFound fills one entry per
+  // function: +1 rising through zero, -1 falling, 0 none.
+  bool SetEventFunctions(int count, const MultiEventFunction* g);
+  bool RootsFound(int* found);
 
   // CVode(..., CV_NORMAL) towards tout with what is left of the step budget.
   // Returns CVODE's flag; a negative flag also sets failure().
@@ -63,6 +69,8 @@ class CvodeSession {
   struct Callback {
     const OdeSystem* system = nullptr;
     const EventFunction* event = nullptr;
+    const MultiEventFunction* events = nullptr;
+    int num_events = 0;
     Diagnostics* diagnostics = nullptr;
     long rhs_evaluations = 0;
   };

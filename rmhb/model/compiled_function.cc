@@ -6,6 +6,15 @@ namespace rmhb::model {
 
 void CompiledFunction::Evaluate(const double* inputs, double* outputs,
                                 std::vector<double>* work) const {
+  Evaluate(inputs, outputs, work, nullptr);
+}
+
+void CompiledFunction::SwitchArguments(const std::vector<double>& work, double* arguments) const {
+  for (std::size_t k = 0; k < switches_.size(); ++k) arguments[k] = work[code_[switches_[k]].a];
+}
+
+void CompiledFunction::Evaluate(const double* inputs, double* outputs, std::vector<double>* work,
+                                const signed char* modes) const {
   if (work->size() < code_.size()) work->resize(code_.size());
   double* r = work->data();
   const int size = static_cast<int>(code_.size());
@@ -51,6 +60,17 @@ void CompiledFunction::Evaluate(const double* inputs, double* outputs,
       case Op::kSinh: r[i] = std::sinh(r[in.a]); break;
       case Op::kCosh: r[i] = std::cosh(r[in.a]); break;
       case Op::kTanh: r[i] = std::tanh(r[in.a]); break;
+      case Op::kRamp: {
+        const double x = r[in.a];
+        r[i] = (modes ? modes[in.n] > 0 : x > 0) ? x : 0.0;
+        break;
+      }
+      case Op::kHeaviside: r[i] = (modes ? modes[in.n] > 0 : r[in.a] >= 0) ? 1.0 : 0.0; break;
+      case Op::kSign: {
+        const double x = r[in.a];
+        r[i] = modes ? double(modes[in.n]) : double((x > 0) - (x < 0));
+        break;
+      }
     }
   }
   for (std::size_t k = 0; k < outputs_.size(); ++k) outputs[k] = r[outputs_[k]];

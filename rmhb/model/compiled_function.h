@@ -29,6 +29,18 @@ class CompiledFunction {
 
   // outputs[i] = f_i(inputs). `work` is resized to size() on first use.
   void Evaluate(const double* inputs, double* outputs, std::vector<double>* work) const;
+
+  // Piecewise-smooth tapes (ramp, heaviside, sign: METHOD.md s.15). Each such
+  // operation is a switch with an argument; by default it takes the branch
+  // of its argument's sign. With `modes` (one per switch, +1 or -1) every
+  // switch keeps the given branch whatever its argument: the smooth
+  // continuation of one side, which event-located integration needs to
+  // step up to a switching surface without crossing it. After an
+  // evaluation, SwitchArguments reads every switch's argument off `work`.
+  int num_switches() const { return static_cast<int>(switches_.size()); }
+  void Evaluate(const double* inputs, double* outputs, std::vector<double>* work,
+                const signed char* modes) const;
+  void SwitchArguments(const std::vector<double>& work, double* arguments) const;
   // Convenience (allocates).
   std::vector<double> operator()(const std::vector<double>& inputs) const;
 
@@ -37,6 +49,7 @@ class CompiledFunction {
   enum class Op : std::uint8_t {
     kConst, kInput, kAdd, kSub, kMul, kDiv, kNeg, kPowInt, kPowReal, kSqrt, kRealRoot,
     kSin, kCos, kTan, kExp, kLog, kAsin, kAcos, kAtan, kSinh, kCosh, kTanh,
+    kRamp, kHeaviside, kSign,  // switches: n is the switch's index
   };
   struct Instruction {
     Op op;
@@ -48,6 +61,7 @@ class CompiledFunction {
   int num_inputs_ = 0;
   std::vector<Instruction> code_;
   std::vector<int> outputs_;  // register of each output
+  std::vector<int> switches_;  // instruction of each switch
 };
 
 }  // namespace rmhb::model

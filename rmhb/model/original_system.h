@@ -64,6 +64,22 @@ struct OriginalSystem {
   // Set instead of rhs when the model has algebraic variables (see above).
   std::function<void(double t, const double* y, const double* yp, double* residual)> residual;
   std::vector<bool> differential;  // per state; false for algebraic variables
+  // Piecewise-smooth equations (max, abs, sign, ...: METHOD.md s.15): the
+  // number of switches and rhs with each held on a branch (+1 or -1), the
+  // switching functions written into `arguments` when not null, for
+  // event-located integration (integrators/switched_integration.h). rhs
+  // itself takes every switch by its argument's sign. Explicit ODEs only.
+  // Coulomb terms coulomb(v, Fn) are switches too (after the others): mode
+  // +1 or -1 slides with the force +-Fn, 0 sticks (v held at zero by the
+  // force that does it, solved with the highest derivatives); their argument
+  // is v when sliding, Fn - |force| when stuck; `next_mode` decides stick or
+  // slip at a crossing (direction +-1) or at the start (0). rhs slides by
+  // the sign of v (smeared; the switched integration is the reference).
+  int num_switches = 0;
+  int num_coulomb = 0;
+  std::function<void(double t, const double* y, const signed char* modes, double* ydot, double* arguments)>
+      switched_rhs;
+  std::function<int(double t, const double* y, int k, int direction, const signed char* modes)> next_mode;
   bool is_dae() const { return static_cast<bool>(residual); }
   // One per state; filled by Recast (empty when built alone).
   std::vector<StateSource> sources;

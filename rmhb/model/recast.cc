@@ -9,6 +9,7 @@
 
 #include "rmhb/model/internal/compile.h"
 #include "rmhb/model/internal/exact_numbers.h"
+#include "rmhb/model/internal/nonsmooth.h"
 #include "rmhb/model/internal/symbolic_model.h"
 #include "rmhb/model/internal/symbolic_tools.h"
 
@@ -72,12 +73,16 @@ class Recaster {
     result.parameters = values_;
 
     // 1. Recast every equation (creates auxiliaries and their equations).
+    // A piecewise-smooth equation (max, abs, ..., coulomb) is no polynomial:
+    // it stays as written and is evaluated pointwise (METHOD.md s.15).
     std::vector<ex> user;
+    std::vector<bool> nonsmooth;
     for (std::size_t i = 0; i < s_.equations.size(); ++i) {
       source_ = static_cast<int>(i);
       Guarded([&] {
         ex e = Substituted(s_.equations[i]);
-        user.push_back(R(e));
+        nonsmooth.push_back(internal::HasNonSmooth(e));
+        user.push_back(nonsmooth.back() ? e : R(e));
       });
     }
     source_ = -1;
@@ -116,6 +121,13 @@ class Recaster {
                            Polynomial::Variable(chain_index[v][j + 1]));
     for (std::size_t i = 0; i < user.size(); ++i) {
       source_ = static_cast<int>(i);
+      if (nonsmooth[i]) {
+        PointwiseEquation pointwise;
+        const std::string error = MakePointwise(static_cast<int>(i), user[i], &pointwise);
+        if (!error.empty()) Fail(error);
+        system.AddPointwiseEquation(std::move(pointwise));
+        continue;
+      }
       Guarded([&] { system.AddEquation(P(user[i])); });
     }
     in_auxiliary_ = true;
@@ -127,7 +139,7 @@ class Recaster {
     source_ = -1;
     for (int i = 0; i < static_cast<int>(user.size()); ++i) {
       const int row = static_cast<int>(system.num_equations() - equations_.size() - user.size()) + i;
-      if (system.equations()[row].lhs.IsZero()) {
+      if (!nonsmooth[i] && system.equations()[row].lhs.IsZero()) {
         source_ = i;
         Fail("the equation vanishes with these parameter values");
       }
@@ -603,30 +615,9 @@ class Recaster {
       if (e.has(s_.t) && (several || unknown))
         return void(result->original_problem_error =
                         where + " has explicit time with " + (several ? "several base frequencies" : "an unknown frequency"));
-      std::vector<ex> inputs{s_.t}, outputs{e};
       PointwiseEquation pointwise;
-      for (std::size_t v = 0; v < chain_.size(); ++v)
-        for (int j = 0; j <= chain_[v] && j < static_cast<int>(s_.derivatives[v].size()); ++j) {
-          const ex& sym = s_.derivatives[v][j];
-          if (!e.has(sym)) continue;
-          const SlotRef ref = slots_.at(sym);
-          pointwise.slots.push_back({ref.variable, ref.derivative});
-          inputs.push_back(sym);
-          outputs.push_back(e.diff(GiNaC::ex_to<GiNaC::symbol>(sym)));
-        }
-      for (const auto& b : bases_.symbols) inputs.push_back(b);
-      std::shared_ptr<const CompiledFunction> tape;
-      try {
-        tape = std::make_shared<const CompiledFunction>(internal::Compile(outputs, inputs));
-      } catch (const std::exception& err) {
-        return void(result->original_problem_error = where + ": " + err.what());
-      }
-      pointwise.evaluate = [tape](const double* in, double* out) {
-        thread_local std::vector<double> work;
-        tape->Evaluate(in, out, &work);
-      };
-      pointwise.text = model_.equations[i].text;
-      pointwise.half_wave_sign = HalfWaveSign(pointwise, bases_.values);
+      const std::string error = MakePointwise(static_cast<int>(i), e, &pointwise);
+      if (!error.empty()) return void(result->original_problem_error = where + ": " + error);
       p.system.AddPointwiseEquation(std::move(pointwise));
     }
     p.frequencies = result->problem.frequencies;
@@ -643,6 +634,82 @@ class Recaster {
       }
     }
     result->original_problem = std::move(p);
+  }
+
+  // User equation i, e (parameters substituted), evaluated pointwise with
+  // its exact partials in every chain slot it contains; a coulomb() term is
+  // replaced by its dynamic Lagrangian (METHOD.md s.15). Returns the reason
+  // when it cannot be (explicit time with an unknown or several bases, a
+  // coulomb term that is not a force added to the equation, a function the
+  // tape does not know).
+  std::string MakePointwise(int i, ex e, PointwiseEquation* pointwise) const {
+    e = e.subs(bases_.KnownValues());
+    bool unknown = false;
+    for (bool u : bases_.unknown) unknown = unknown || u;
+    if (e.has(s_.t) && (bases_.symbols.size() > 1 || unknown))
+      return std::string("explicit time with ") + (unknown ? "an unknown frequency" : "several base frequencies") +
+             " in a pointwise equation";
+    for (const auto& w : unknown_bases_)
+      if (e.has(w)) return "the unknown frequency appears outside forcing terms";
+    if (internal::HasCoulomb(e)) {
+      try {
+        e = internal::DynamicLagrangian(e, LagrangianPenalty(e));
+      } catch (const std::invalid_argument& err) {
+        return err.what();
+      }
+    }
+    std::vector<ex> inputs{s_.t}, outputs{e};
+    for (std::size_t v = 0; v < chain_.size(); ++v)
+      for (int j = 0; j <= chain_[v] && j < static_cast<int>(s_.derivatives[v].size()); ++j) {
+        const ex& sym = s_.derivatives[v][j];
+        if (!e.has(sym)) continue;
+        const SlotRef ref = slots_.at(sym);
+        pointwise->slots.push_back({ref.variable, ref.derivative});
+        inputs.push_back(sym);
+        outputs.push_back(e.diff(GiNaC::ex_to<GiNaC::symbol>(sym)));
+      }
+    for (const auto& b : bases_.symbols) inputs.push_back(b);
+    std::shared_ptr<const CompiledFunction> tape;
+    try {
+      tape = std::make_shared<const CompiledFunction>(internal::Compile(outputs, inputs));
+    } catch (const std::exception& err) {
+      return err.what();
+    }
+    pointwise->evaluate = [tape](const double* in, double* out) {
+      thread_local std::vector<double> work;
+      tape->Evaluate(in, out, &work);
+    };
+    pointwise->text = model_.equations[i].text;
+    pointwise->nonsmooth = internal::HasNonSmooth(outputs[0]);
+    pointwise->half_wave_sign = HalfWaveSign(*pointwise, bases_.values);
+    return "";
+  }
+
+  // The automatic penalty of a dynamic Lagrangian: the equation's impedance
+  // at the base frequency w from its linear part at rest, w |de/dx^(n)| +
+  // |de/dx^(n-1)| summed over the variables (x^(n) the highest derivative),
+  // so that eps v is of the size of the forces around it (Nacivet et al.
+  // scale it with the contact stiffness). 1 when that is not positive.
+  ex LagrangianPenalty(const ex& e) const {
+    const ex rest = e.subs(internal::coulomb(GiNaC::wild(0), GiNaC::wild(1), GiNaC::wild(2)) == 0);
+    GiNaC::exmap origin;
+    for (const auto& chain : s_.derivatives)
+      for (const auto& sym : chain) origin[sym] = 0;
+    const double w = bases_.values.empty() ? 1.0 : bases_.values[0];
+    double penalty = 0;
+    try {
+      for (std::size_t v = 0; v < chain_.size(); ++v) {
+        const int n = chain_[v];
+        if (n >= static_cast<int>(s_.derivatives[v].size())) continue;
+        const auto& top = s_.derivatives[v][n];
+        const auto& below = s_.derivatives[v][n - 1];
+        penalty += w * std::abs(internal::EvaluateConstant(rest.diff(top).subs(origin).subs(s_.t == 0)));
+        penalty += std::abs(internal::EvaluateConstant(rest.diff(below).subs(origin).subs(s_.t == 0)));
+      }
+    } catch (const std::exception&) {
+      penalty = 0;
+    }
+    return penalty > 0 && std::isfinite(penalty) ? ex(penalty) : ex(1);
   }
 
   // +1 or -1 when g(t + T/2, -z) = +-g(t, z) at a few points within the

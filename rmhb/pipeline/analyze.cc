@@ -202,13 +202,6 @@ namespace {
 
 using nlohmann::json;
 
-template <typename... Args>
-std::string Format(const char* format, Args... args) {
-  char text[512];
-  std::snprintf(text, sizeof text, format, args...);
-  return text;
-}
-
 // The stages as JSON and as text lines, built together so they agree.
 struct Stages {
   json stages = json::object();
@@ -218,7 +211,7 @@ struct Stages {
 void ReportIdentification(const AnalyzeSummary& s, Stages* out) {
   const seeding::RecordOptions& record = s.trajectory->record;
   out->lines.push_back(
-      Format("%-10s %9.1f ms  %s rtol %.0e: %d samples, t in [%g, %g], dt %.4g", "trajectory",
+      StringPrintf("%-10s %9.1f ms  %s rtol %.0e: %d samples, t in [%g, %g], dt %.4g", "trajectory",
              s.trajectory->seconds * 1e3, s.trajectory->integrator.c_str(), record.integrator.relative_tolerance,
              s.trajectory->samples, record.transient, record.t_end, record.dt) +
       (s.trajectory->settle_periods > 0
@@ -233,14 +226,14 @@ void ReportIdentification(const AnalyzeSummary& s, Stages* out) {
   json& identify = out->stages["identify"];
   identify = {{"seconds", s.identify_seconds}, {"status", ToString(id.status)}, {"message", id.message},
               {"window_order", id.window_order}, {"lines", id.components.size()}, {"explained", id.num_explained}};
-  std::string report = Format("%-10s %9.1f ms  %s, %zu lines (%d explained), Hann^%d, bases", "identify",
+  std::string report = StringPrintf("%-10s %9.1f ms  %s, %zu lines (%d explained), Hann^%d, bases", "identify",
                               s.identify_seconds * 1e3, ToString(id.status), id.components.size(), id.num_explained,
                               id.window_order);
   // The bases as selected (any basis of the lattice); the seed maps them to the model's.
   json selected = json::array();
   for (size_t i = 0; i < id.bases.size(); ++i) {
     selected.push_back(JsonNumber(id.bases[i].frequency));
-    report += Format("%s b%zu = %.12g", i ? "," : "", i + 1, id.bases[i].frequency);
+    report += StringPrintf("%s b%zu = %.12g", i ? "," : "", i + 1, id.bases[i].frequency);
   }
   identify["selected_bases"] = selected;
   out->lines.push_back(report);
@@ -256,7 +249,7 @@ void ReportIdentification(const AnalyzeSummary& s, Stages* out) {
                          {"lines_dropped", seed.lines_dropped}, {"energy_on_basis", JsonNumber(seed.energy_on_basis)},
                          {"fitted_harmonics", seed.fitted_harmonics}, {"coordinates", seed.coordinates},
                          {"phase_shift", seed.phase_shift}, {"condition_residual", JsonNumber(seed.condition_residual)}};
-  out->lines.push_back(Format("%-10s %9.1f ms  ", "seed", s.seed_seconds * 1e3) + seed.Report());
+  out->lines.push_back(StringPrintf("%-10s %9.1f ms  ", "seed", s.seed_seconds * 1e3) + seed.Report());
 }
 
 void ReportSolve(const AnalyzeSummary& s, Stages* out) {
@@ -273,7 +266,7 @@ void ReportSolve(const AnalyzeSummary& s, Stages* out) {
            {"order", options.order}, {"harmonics", summary.solution ? summary.solution->basis().size() : 0},
            {"coefficients", unknowns}, {"alias_free", summary.alias_free}, {"degree", summary.degree},
            {"samples", summary.samples.size() == 1 ? json(summary.samples[0]) : json(summary.samples)}};
-  out->lines.push_back(Format("%-10s %9.1f ms  %s %s order %d: %s after %d iterations, max|F| %.3e", "solve",
+  out->lines.push_back(StringPrintf("%-10s %9.1f ms  %s %s order %d: %s after %d iterations, max|F| %.3e", "solve",
                               summary.seconds * 1e3, bases == 1 ? "RHB" : "RMHB", ToString(options.rule),
                               options.order, converged ? "converged" : "NOT converged", summary.solver.iterations,
                               summary.solver.final_residual));
@@ -285,7 +278,7 @@ void ReportSolve(const AnalyzeSummary& s, Stages* out) {
     json& base = out->stages["identify"]["bases"][b];
     base["solved"] = JsonNumber(w[b]);
     base["difference"] = JsonNumber(w[b] - base["frequency"].get<double>());
-    out->lines.push_back(Format("%-10s w%d identified %.15g +- %.1e, solved %.15g, difference %+.2e%s", "", b + 1,
+    out->lines.push_back(StringPrintf("%-10s w%d identified %.15g +- %.1e, solved %.15g, difference %+.2e%s", "", b + 1,
                                 base["frequency"].get<double>(), base["uncertainty"].get<double>(), w[b],
                                 w[b] - base["frequency"].get<double>(), Unknown(s.problem, b) ? "" : " (known)"));
   }
@@ -300,7 +293,7 @@ void ReportValidation(const AnalyzeSummary& s, Stages* out) {
                              {"tolerance", s.verdict ? s.verdict->tolerance : NAN},
                              {"periods", s.validate_periods}, {"integrator", v.integrator}, {"message", v.message}};
   out->lines.push_back(
-      Format("%-10s %9.1f ms  %s: max error %.3e (relative %.2e, tolerance %.0e) over t in [0, %g] against %s",
+      StringPrintf("%-10s %9.1f ms  %s: max error %.3e (relative %.2e, tolerance %.0e) over t in [0, %g] against %s",
              "validate", v.seconds * 1e3, !v.ok ? "FAILED" : within ? "ok" : "EXCEEDS", v.max_error,
              s.verdict ? s.verdict->relative_error : NAN, s.verdict ? s.verdict->tolerance : NAN, s.validation_t_end,
              v.integrator.c_str()) +

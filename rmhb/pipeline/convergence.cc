@@ -397,13 +397,6 @@ std::string CellText(const ConvergenceCell& c) {
   return buf;
 }
 
-template <typename... Args>
-std::string Format(const char* format, Args... args) {
-  char text[1024];
-  std::snprintf(text, sizeof text, format, args...);
-  return text;
-}
-
 // What the table leaves out: columns not run, non-physical and refused cells.
 std::string ColumnNotes(const ConvergenceSummary& study) {
   std::string out;
@@ -411,11 +404,11 @@ std::string ColumnNotes(const ConvergenceSummary& study) {
     if (!col.unavailable.empty()) out += col.name + ": not run: " + col.unavailable + "\n";
     for (size_t i = 0; i < col.cells.size(); ++i)
       if (col.cells[i].converged() && !col.cells[i].physical)
-        out += Format("%s, order %d: ! NON-PHYSICAL: %s\n", col.name.c_str(), study.orders[i],
+        out += StringPrintf("%s, order %d: ! NON-PHYSICAL: %s\n", col.name.c_str(), study.orders[i],
                       col.cells[i].non_physical.c_str());
     for (size_t i = 0; i < col.cells.size(); ++i)
       if (col.cells[i].status == "refused") {
-        out += Format("%s, order %d: refused: %s\n", col.name.c_str(), study.orders[i], col.cells[i].message.c_str());
+        out += StringPrintf("%s, order %d: refused: %s\n", col.name.c_str(), study.orders[i], col.cells[i].message.c_str());
         break;
       }
   }
@@ -425,19 +418,19 @@ std::string ColumnNotes(const ConvergenceSummary& study) {
 }  // namespace
 
 std::string ConvergenceSummary::FullReport() const {
-  std::string out = Format("%s: %s  (recast degree phi = %d)\n", model_name.c_str(), equation.c_str(), degree);
+  std::string out = StringPrintf("%s: %s  (recast degree phi = %d)\n", model_name.c_str(), equation.c_str(), degree);
   out += "error: " + error_measure + (reference_source.empty() ? "" : "; ") + reference_source + "\n";
-  out += Format("cells: error, run time [ms], samples M\n\n%5s", bases == 1 ? "N" : "p");
-  for (const auto& col : columns) out += Format(" | %-23s", col.name.c_str());
+  out += StringPrintf("cells: error, run time [ms], samples M\n\n%5s", bases == 1 ? "N" : "p");
+  for (const auto& col : columns) out += StringPrintf(" | %-23s", col.name.c_str());
   out += "\n";
   for (size_t i = 0; i < orders.size(); ++i) {
-    out += Format("%5d", orders[i]);
+    out += StringPrintf("%5d", orders[i]);
     for (const auto& col : columns) out += " | " + CellText(col.cells[i]);
     out += "\n";
   }
   out += ColumnNotes(*this);
   if (taylor_degree >= 0)
-    out += Format("taylor: the non-polynomial terms replaced by their Taylor polynomials of order %d (phi = %d)\n",
+    out += StringPrintf("taylor: the non-polynomial terms replaced by their Taylor polynomials of order %d (phi = %d)\n",
                   taylor_order, taylor_degree);
   if (original_listed)
     out += "original: HB-AFT on the original right-hand side, M = " +

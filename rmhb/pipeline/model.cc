@@ -108,6 +108,12 @@ Model LoadModel(const std::string& path, const std::map<std::string, double>& ov
       bound.BindFrequencies(w);
       return integrators::OdeSystem{bound.dimension, bound.rhs};
     };
+    if (recast->original->num_switches > 0)
+      p.original_switched = [recast](const std::vector<double>& w) {
+        model::OriginalSystem bound = *recast->original;
+        bound.BindFrequencies(w);
+        return integrators::SwitchedOdeSystem{bound.dimension, bound.num_switches, bound.switched_rhs, bound.next_mode};
+      };
   }
   if (recast->original) {
     p.state = [recast](const HarmonicSolution& s, double t) {
@@ -232,8 +238,10 @@ integrators::ValidationReport ValidateOriginal(const Model& source, const Harmon
   const StateOfSolution& map = state ? state : source.state;
   auto claimed = [&](double t) { return map(solution, t); };
   const std::vector<double>& w = solution.frequencies();
-  return source.original_dae ? integrators::ValidateDaeTrajectory(source.original_dae(w), claimed, t_end, samples)
-                             : integrators::ValidateTrajectory(source.original(w), claimed, t_end, source.stiff, samples);
+  if (source.original_dae) return integrators::ValidateDaeTrajectory(source.original_dae(w), claimed, t_end, samples);
+  if (source.original_switched)
+    return integrators::ValidateSwitchedTrajectory(source.original_switched(w), claimed, t_end, samples);
+  return integrators::ValidateTrajectory(source.original(w), claimed, t_end, source.stiff, samples);
 }
 
 ValidationVerdict JudgeValidation(const Model& model, const HarmonicSolution& solution,

@@ -21,6 +21,7 @@
 #include "integrators/integration_result.h"
 #include "integrators/integrator_options.h"
 #include "integrators/ode_system.h"
+#include "integrators/switched_integration.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/collocation_residual.h"
 #include "rmhb/harmonic_solution.h"
@@ -44,6 +45,10 @@ struct Model {
   // Set instead of `original` for a model with algebraic equations: the DAE
   // F(t, y, y') = 0 for IDA.
   std::function<integrators::DaeSystem(const std::vector<double>& w)> original_dae;
+  // Set besides `original` for piecewise-smooth equations (max, abs, ...):
+  // the same ODE with its switches, for event-located integration
+  // (ValidateOriginal uses it: the reference is not smeared across a kink).
+  std::function<integrators::SwitchedOdeSystem(const std::vector<double>& w)> original_switched;
   std::function<Eigen::VectorXd(const HarmonicSolution&, double t)> state;
   std::vector<std::string> state_names;
   // Every variable from the state and its derivatives on a torus.

@@ -1,5 +1,7 @@
 #include "rmhb/pipeline/monodromy.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <deque>
 #include <memory>
@@ -65,6 +67,32 @@ Eigen::VectorXd Flow(const Model& model, const HarmonicSolution& solution) {
   return (model.state(solution, h) - model.state(solution, -h)) / (2 * h);
 }
 
+// A piecewise-smooth model: the variational equations integrated event by
+// event (integrators/switched_integration.h, METHOD.md s.15).
+MonodromyResult SwitchedModelMonodromy(const Model& model, const HarmonicSolution& solution,
+                                       const std::vector<double>& bases, const Eigen::VectorXd& y0,
+                                       const integrators::FloquetOptions& floquet) {
+  MonodromyResult result;
+  const auto start = std::chrono::steady_clock::now();
+  const double T = 2 * M_PI / solution.frequencies()[0];
+  const Eigen::MatrixXd M =
+      integrators::SwitchedMonodromy(model.original_switched(bases), y0, T, floquet.integrator, &result.message);
+  result.integrator = std::string(OriginalIntegrator(model)) + ", switches located";
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (M.size() == 0) return result;
+  result.ok = true;
+  const Eigen::VectorXd flow = Flow(model, solution);
+  if (floquet.autonomous && flow.norm() > 0) {
+    DeflateTrivial(M, flow, &result);
+    return result;
+  }
+  const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(M, false).eigenvalues();
+  result.multipliers.assign(mu.data(), mu.data() + mu.size());
+  std::sort(result.multipliers.begin(), result.multipliers.end(),
+            [](const auto& a, const auto& b) { return std::abs(a) > std::abs(b); });
+  return result;
+}
+
 }  // namespace
 
 std::string ModelMonodromyOptions::IsValid() const {
@@ -93,6 +121,7 @@ MonodromyResult ModelMonodromy(const Model& model, const HarmonicSolution& solut
   floquet.integrator.absolute_tolerance = options.absolute_tolerance;
   if (model.stiff) floquet.integrator.method = integrators::IntegratorOptions::Method::kBdf;
   const Eigen::VectorXd y0 = model.state(solution, 0.0);
+  if (model.original_switched) return SwitchedModelMonodromy(model, solution, bases, y0, floquet);
   const integrators::FloquetReport r =
       model.original_dae ? integrators::DaeFloquetMultipliers(model.original_dae(bases), y0, 0.0, 2 * M_PI / w, floquet)
                          : integrators::FloquetMultipliers(model.original(bases), y0, 0.0, 2 * M_PI / w, floquet);

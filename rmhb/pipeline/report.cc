@@ -1,9 +1,24 @@
 #include "rmhb/pipeline/report.h"
 
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 
 namespace rmhb {
+
+std::string StringPrintf(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  va_list again;
+  va_copy(again, args);
+  const int length = std::vsnprintf(nullptr, 0, format, args);
+  va_end(args);
+  std::string text(length > 0 ? length : 0, '\0');
+  if (length > 0) std::vsnprintf(text.data(), text.size() + 1, format, again);
+  va_end(again);
+  return text;
+}
+
 namespace {
 
 using nlohmann::json;
@@ -57,6 +72,7 @@ json PhysicalJson(const HarmonicBalanceSummary& summary) {
   if (summary.alias_residual >= 0) {
     out["alias_residual"] = JsonNumber(summary.alias_residual);
     out["alias_check_samples"] = summary.alias_check_samples;
+    out["alias_tolerance"] = summary.alias_tolerance;
   }
   if (const auto& c = summary.definition_check) {
     out["definition_error"] = JsonNumber(c->error);
@@ -77,7 +93,7 @@ std::string PhysicalLine(const HarmonicBalanceSummary& summary) {
     long points = 1;
     for (int m : summary.alias_check_samples) points *= m;
     std::snprintf(text, sizeof text, "yes: residual on %ld samples (twice the solve's) %.2e (relative) <= %.0e",
-                  points, summary.alias_residual, 1e-6);
+                  points, summary.alias_residual, summary.alias_tolerance);
     return text;
   }
   if (summary.definition_check) return "yes: " + summary.definition_check->Report();

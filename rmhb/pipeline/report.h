@@ -20,6 +20,9 @@
 namespace rmhb {
 
 // v, or null when not finite.
+// printf into a string as long as the text needs (the reports' lines).
+std::string StringPrintf(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
 nlohmann::json JsonNumber(double v);
 // [[re, im], ...], non-finite parts null.
 nlohmann::json JsonComplex(const std::vector<std::complex<double>>& values);

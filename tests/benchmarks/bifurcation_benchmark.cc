@@ -5,6 +5,10 @@
 //   against the number of unknowns (the quadratic oscillator of the tests at
 //   N = 10 ... 80, chains of 2 ... 8 forced cubic oscillators at N = 25),
 //   and how far their multipliers are apart at the first point.
+// - unilateral [N] [M]: NLvib's example 03 as written, max(x1 - 1, 0)
+//   (tests/benchmarks/models/unilateral.yaml; default N = 21, M = 4096):
+//   the branch, its bifurcations against shooting, every point against
+//   CVODE with the contact switches located by root finding.
 // - nlvib: NLvib's example 03 with its unilateral spring smoothed by tanh
 //   (tests/benchmarks/models/unilateral-smooth.yaml, N = 30), Omega from 0.8
 //   down to 0.5: the bifurcations located by continuation against the
@@ -15,9 +19,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "rmhb/branch_switching.h"
 #include "rmhb/pipeline/monodromy.h"
@@ -93,35 +101,45 @@ void StabilityCost() {
   }
 }
 
-void NlvibExample03() {
-  const std::string file = std::string(RMHB_SOURCE_DIR) + "/tests/benchmarks/models/unilateral-smooth.yaml";
-  const int order = 30;
+// NLvib's example 03, smoothed (unilateral-smooth.yaml, N = 30, the
+// branches from the PD and NS points too) or as written with max()
+// (unilateral.yaml: N and M given, every point against the event-located
+// CVODE reference).
+void NlvibExample03(const std::string& name, int order, int samples, bool branches) {
+  const std::string file = std::string(RMHB_SOURCE_DIR) + "/tests/benchmarks/models/" + name + ".yaml";
   const Model model = LoadModel(file, {{"W", 0.8}});
   const ContinuationProblem problem =
       ModelContinuationProblem([file](double W) { return LoadModel(file, {{"W", W}}); }, "W", 0.8, 0.5);
   ContinuationOptions options;
   options.harmonic_balance.order = order;
+  if (samples > 0) options.harmonic_balance.samples = {samples};
   auto start = std::chrono::steady_clock::now();
   const ContinuationSummary s = TraceBranch(problem, GuessAtOrder(model, order), options);
   const double seconds = Since(start);
-  std::printf("\nNLvib example 03, unilateral spring smoothed by tanh (s = 5), N = %d, Omega 0.8 -> 0.5\n%s\n", order,
-              s.BriefReport().c_str());
+  std::printf("\nNLvib example 03 (%s), N = %d, M = %d, Omega 0.8 -> 0.5\n%s\n", name.c_str(), order,
+              samples, s.BriefReport().c_str());
   std::printf("trace %.2f s, stability %.2f s (%d Hill, %d monodromy)\n", seconds, s.stability_seconds, s.hill_points,
               s.monodromy_points);
-  // Every point against CVODE over one period.
-  double worst = 0;
+  // Every point against CVODE over one period (event-located for max()).
+  double worst = 0, sum = 0;
+  std::string integrator;
   for (const ContinuationPoint& p : s.points) {
     const Model here = LoadModel(file, {{"W", p.parameter}});
     const double T = 2 * M_PI / p.parameter;
     const integrators::ValidationReport v = ValidateOriginal(here, p.solution, T, 201);
-    worst = std::max(worst, v.ok ? JudgeValidation(here, p.solution, v, T, 1).relative_error : HUGE_VAL);
+    const double e = v.ok ? JudgeValidation(here, p.solution, v, T, 1).relative_error : HUGE_VAL;
+    worst = std::max(worst, e);
+    sum += e;
+    integrator = v.integrator;
   }
-  std::printf("every point against CVODE (Adams, rtol 1e-13) over a period: max relative error %.1e\n", worst);
+  std::printf("every point against %s over a period: max relative error %.1e, mean %.1e\n", integrator.c_str(),
+              worst, sum / s.points.size());
   // The bifurcations against the shooting reference.
   Eigen::VectorXd y = model.state(s.points.front().solution, 0.0);
   for (const BifurcationPoint& b : s.bifurcations) {
     std::printf("  %s\n", b.Describe("W").c_str());
     if (b.type != BifurcationType::kPeriodDoubling && b.type != BifurcationType::kNeimarkSacker) continue;
+    if (model.original_switched) continue;  // the shooting reference steps across the kinks
     const bool pd = b.type == BifurcationType::kPeriodDoubling;
     const Model at = LoadModel(file, {{"W", b.parameter}});
     y = at.state(s.points[b.point].solution, 0.0);
@@ -129,6 +147,7 @@ void NlvibExample03() {
     std::printf("    shooting reference W = %.12f: error %.1e\n", reference, b.parameter - reference);
   }
   for (const BifurcationPoint& b : s.bifurcations) {
+    if (!branches) break;
     if (b.type == BifurcationType::kPeriodDoubling) {
       start = std::chrono::steady_clock::now();
       const DoubledBranch d = TraceDoubledBranch(problem, s, b, options);
@@ -162,11 +181,120 @@ void NlvibExample03() {
   }
 }
 
+// ---- NLvib side by side on its example 03 (tests/benchmarks/peers/unilateral_bench) ----
+// NLvib's layout: X = [Q0; Qc1; Qs1; ...], each block over the two masses.
+const std::string kUnilateral = std::string(RMHB_SOURCE_DIR) + "/tests/benchmarks/models/unilateral.yaml";
+
+// The branch at order N and M samples; every `stride`-th point as a line
+// "Om X" with X the PREVIOUS point's solution (the start both tools get).
+void UnilateralPoints(int order, int samples, int stride) {
+  const Model model = LoadModel(kUnilateral, {{"W", 0.8}});
+  const ContinuationProblem problem =
+      ModelContinuationProblem([](double W) { return LoadModel(kUnilateral, {{"W", W}}); }, "W", 0.8, 0.5);
+  ContinuationOptions options;
+  options.harmonic_balance.order = order;
+  options.harmonic_balance.samples = {samples};
+  options.stability = false;
+  const ContinuationSummary s = TraceBranch(problem, GuessAtOrder(model, order), options);
+  const int x1 = model.problem.system.IndexOf("x1"), x2 = model.problem.system.IndexOf("x2");
+  for (size_t i = stride; i < s.points.size(); i += stride) {
+    const Eigen::MatrixXd& c = s.points[i - 1].solution.coefficients();
+    std::printf("%.17g", s.points[i].parameter);
+    for (int k = 0; k < c.cols(); ++k) std::printf(" %.17g %.17g", c(x1, k), c(x2, k));
+    std::printf("\n");
+  }
+}
+
+// x1, x2 from NLvib's X, their derivatives for the chain variables.
+HarmonicSolution FromNlvib(const Model& model, double W, const std::vector<double>& X) {
+  const int C = static_cast<int>(X.size()) / 2;
+  const HarmonicBasis basis = HarmonicBasis::Periodic((C - 1) / 2);
+  const PolynomialSystem& sys = model.problem.system;
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(sys.num_variables(), C);
+  for (int m = 0; m < 2; ++m) {
+    const int x = sys.IndexOf(m == 0 ? "x1" : "x2"), v = sys.IndexOf(m == 0 ? "x1_d1" : "x2_d1");
+    for (int k = 0; k < C; ++k) c(x, k) = X[2 * k + m];
+    for (int h = 1; 2 * h < C; ++h) {
+      c(v, 2 * h - 1) = h * W * c(x, 2 * h);
+      c(v, 2 * h) = -h * W * c(x, 2 * h - 1);
+    }
+  }
+  return HarmonicSolution(basis, {W}, c, sys.variables());
+}
+
+double AgainstCvode(const Model& here, const HarmonicSolution& s) {
+  const double T = 2 * M_PI / s.frequencies()[0];
+  const integrators::ValidationReport v = ValidateOriginal(here, s, T, 401);
+  return v.ok ? JudgeValidation(here, s, v, T, 1).relative_error : HUGE_VAL;
+}
+
+// Each point of `points` (UnilateralPoints) solved by rmhb from the same
+// start at the same N and M, timed (median), and both answers (NLvib's from
+// `nlvib`: "Om seconds flag X") against CVODE with the contact located.
+void UnilateralCompare(int order, int samples, const char* points, const char* nlvib) {
+  std::ifstream p(points), q(nlvib);
+  std::printf("NLvib example 03 as written (max), H = N = %d harmonics, %d samples, both from the previous "
+              "point's solution\n",
+              order, samples);
+  std::printf("%-10s %-9s %-9s %-11s %-11s %-8s | rmhb at 4N: %-7s %-9s | at 16N: %-7s %-9s\n", "Omega",
+              "rmhb ms", "NLvib ms", "rmhb error", "NLvib error", "max|x1|", "ms", "error", "ms", "error");
+  std::string a, b;
+  while (std::getline(p, a) && std::getline(q, b)) {
+    std::istringstream pa(a), qb(b);
+    double W, Wn, nlvib_seconds, flag;
+    pa >> W;
+    qb >> Wn >> nlvib_seconds >> flag;
+    std::vector<double> start, theirs;
+    for (double v; pa >> v;) start.push_back(v);
+    for (double v; qb >> v;) theirs.push_back(v);
+    const Model here = LoadModel(kUnilateral, {{"W", W}});
+    HarmonicBalanceOptions options;
+    options.order = order;
+    options.samples = {samples};
+    options.order_continuation = false;
+    const HarmonicSolution guess = FromNlvib(here, W, start);
+    std::vector<double> times;
+    HarmonicBalanceSummary s;
+    for (int r = 0; r < 7; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      s = SolveHarmonicBalance(here.problem, guess, options);
+      times.push_back(Since(t0));
+    }
+    std::sort(times.begin(), times.end());
+    const double mine = s.usable() ? AgainstCvode(here, *s.solution) : HUGE_VAL;
+    const double other = flag > 0 ? AgainstCvode(here, FromNlvib(here, W, theirs)) : HUGE_VAL;
+    double amplitude = 0;
+    if (s.solution)
+      for (int i = 0; i < 200; ++i) amplitude = std::max(amplitude, std::abs(s.solution->Value(0, 0.0314 * i / W)));
+    std::printf("%-10.6f %-9.2f %-9.2f %-11.2e %-11.2e %-8.4f", W, 1e3 * times[3], 1e3 * nlvib_seconds, mine, other,
+                amplitude);
+    // Higher orders from the same converged point, M = 32 (4N) and 32 (16N)
+    // rounded up to a power of two.
+    for (int factor : {4, 16}) {
+      HarmonicBalanceOptions high;
+      high.order = factor * order;
+      high.samples = {NonSmoothSamples(factor * order, 32)};
+      high.order_continuation = false;
+      const auto t0 = std::chrono::steady_clock::now();
+      const HarmonicBalanceSummary h =
+          s.usable() ? SolveHarmonicBalance(here.problem, *s.solution, high) : HarmonicBalanceSummary{};
+      const double seconds = Since(t0);
+      std::printf(" | %-18.1f %-9.2e", 1e3 * seconds, h.usable() ? AgainstCvode(here, *h.solution) : HUGE_VAL);
+    }
+    std::printf("\n");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string what = argc > 1 ? argv[1] : "all";
   if (what == "stability" || what == "all") StabilityCost();
-  if (what == "nlvib" || what == "all") NlvibExample03();
+  if (what == "nlvib" || what == "all") NlvibExample03("unilateral-smooth", 30, 0, true);
+  // build/tests/benchmarks/bifurcation_benchmark unilateral [N] [M]
+  if (what == "unilateral-points") UnilateralPoints(std::atoi(argv[2]), std::atoi(argv[3]), std::atoi(argv[4]));
+  if (what == "unilateral-compare") UnilateralCompare(std::atoi(argv[2]), std::atoi(argv[3]), argv[4], argv[5]);
+  if (what == "unilateral" || what == "all")
+    NlvibExample03("unilateral", argc > 2 ? std::atoi(argv[2]) : 21, argc > 3 ? std::atoi(argv[3]) : 4096, false);
   return 0;
 }

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "synthetic_signal.h"
+
 namespace rmhb::frequency_id {
 namespace {
 
@@ -32,8 +34,8 @@ void ExpectLabels(const BaseSelection& selection, const std::vector<TrueLine>& t
   }
 }
 
-constexpr double kW1 = 0.9857123456789;
-constexpr double kW2 = 0.9935987654321;
+using testing::kW1;
+using testing::kW2;
 
 // (1,1) and (2,0) are stronger than the base w2: picking bases by amplitude
 // would take w1 and 2 w1, or w1 and w1 + w2.

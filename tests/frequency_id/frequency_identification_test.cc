@@ -15,8 +15,8 @@ using testing::MakeSignal;
 using testing::Tone;
 using testing::ToneFrequency;
 
-constexpr double kW1 = 0.9857123456789;
-constexpr double kW2 = 0.9935987654321;  // 0.0079 above kW1: 16 bins for T = 12800
+using testing::kW1;
+using testing::kW2;
 
 // Amplitudes span 1 .. 1e-6; the sum tone (1,1) (0.12) and the second
 // harmonic (0.3) are both stronger than the base w2 (0.05). Combination tones

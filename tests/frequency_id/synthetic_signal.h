@@ -9,6 +9,11 @@
 
 namespace rmhb::frequency_id::testing {
 
+// Two close base frequencies (0.0079 apart: 16 bins for T = 12800), the
+// asymmetric pendulum's kind of spectrum.
+inline constexpr double kW1 = 0.9857123456789;
+inline constexpr double kW2 = 0.9935987654321;
+
 // One line of a synthetic record: frequency label . bases, and per channel
 // amplitude * gain[c] cos(omega t + phase + c * 0.3).
 struct Tone {

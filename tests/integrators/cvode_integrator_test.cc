@@ -16,23 +16,11 @@ namespace {
 
 using testing::HarmonicOscillator;
 using ::testing::HasSubstr;
+using testing::kNaN;
+using testing::kPi;
+using testing::Vec;
+using testing::Grid;
 using Method = IntegratorOptions::Method;
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
-
-std::vector<double> Grid(double start, double stop, int n) {
-  std::vector<double> times(n);
-  for (int k = 0; k < n; ++k) times[k] = start + (stop - start) * k / (n - 1);
-  return times;
-}
-
-Eigen::VectorXd Vec(std::initializer_list<double> values) {
-  Eigen::VectorXd v(static_cast<Eigen::Index>(values.size()));
-  Eigen::Index i = 0;
-  for (double x : values) v[i++] = x;
-  return v;
-}
 
 double MaxOscillatorError(const Trajectory& trajectory) {
   double error = 0;

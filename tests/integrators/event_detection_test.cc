@@ -16,17 +16,10 @@ namespace rmhb::integrators {
 namespace {
 
 using ::testing::HasSubstr;
+using testing::kPi;
+using testing::Vec;
 using testing::kPendulumPeriod;
 using testing::kPendulumTheta0;
-
-constexpr double kPi = 3.14159265358979323846;
-
-Eigen::VectorXd Vec(std::initializer_list<double> values) {
-  Eigen::VectorXd v(static_cast<Eigen::Index>(values.size()));
-  Eigen::Index i = 0;
-  for (double x : values) v[i++] = x;
-  return v;
-}
 
 double Velocity(double, const double* y) { return y[1]; }
 double Position(double, const double* y) { return y[0]; }

@@ -16,21 +16,9 @@ namespace rmhb::integrators {
 namespace {
 
 using ::testing::HasSubstr;
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-Eigen::VectorXd Vec(std::initializer_list<double> values) {
-  Eigen::VectorXd v(static_cast<Eigen::Index>(values.size()));
-  Eigen::Index i = 0;
-  for (double x : values) v[i++] = x;
-  return v;
-}
-
-std::vector<double> Grid(double start, double stop, int n) {
-  std::vector<double> times(n);
-  for (int k = 0; k < n; ++k) times[k] = start + (stop - start) * k / (n - 1);
-  return times;
-}
+using testing::kNaN;
+using testing::Vec;
+using testing::Grid;
 
 // Semi-explicit index 1:  x' = -x + z,  0 = z - x^2.  From x(0) = 1/2 the
 // solution is x = 1 / (1 + e^t), z = x^2.

@@ -5,11 +5,33 @@
 
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
+#include <limits>
 #include <string>
+#include <vector>
+
+#include <Eigen/Dense>
 
 #include "integrators/ode_system.h"
 
 namespace rmhb::integrators::testing {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+inline constexpr double kPi = 3.14159265358979323846;
+
+inline Eigen::VectorXd Vec(std::initializer_list<double> values) {
+  Eigen::VectorXd v(static_cast<Eigen::Index>(values.size()));
+  Eigen::Index i = 0;
+  for (double x : values) v[i++] = x;
+  return v;
+}
+
+// n equally spaced times from start to stop.
+inline std::vector<double> Grid(double start, double stop, int n) {
+  std::vector<double> times(n);
+  for (int k = 0; k < n; ++k) times[k] = start + (stop - start) * k / (n - 1);
+  return times;
+}
 
 // For RecordProperty: std::to_string prints 1e-12 as "0.000000".
 inline std::string Sci(double x) {

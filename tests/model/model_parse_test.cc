@@ -154,9 +154,11 @@ TEST(ModelErrors, UnknownKey) {
 }
 
 TEST(ModelErrors, UnsupportedFunctions) {
-  EXPECT_EQ(ParseError(Pendulum("sin(theta)", "abs(theta)")),
-            "m.yaml:6:16: function 'abs' is not supported: it is not smooth, and the recast "
-            "into a polynomial system needs differentiable functions in equation 1");
+  EXPECT_EQ(ParseError(Pendulum("sin(theta)", "fabs(theta)")),
+            "m.yaml:6:16: function 'fabs' is not supported: piecewise-smooth terms are written with abs, "
+            "max, min, sign, heaviside, clamp or coulomb (Coulomb friction) in equation 1");
+  EXPECT_EQ(ParseError(Pendulum("sin(theta)", "max(theta)")),
+            "m.yaml:6:16: max() takes 2 arguments, got 1 in equation 1");
   EXPECT_EQ(ParseError(Pendulum("sin(theta)", "floor(theta)")).substr(0, 40),
             "m.yaml:6:16: function 'floor' is not sup");
   EXPECT_EQ(ParseError(Pendulum("sin(theta)", "erf(theta)")),

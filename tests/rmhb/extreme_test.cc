@@ -14,7 +14,7 @@
 namespace rmhb {
 namespace {
 
-HarmonicBalanceSummary Solve(const examples::ExampleSetup& e, int order, double tolerance = 0) {
+HarmonicBalanceSummary SolveToTolerance(const examples::ExampleSetup& e, int order, double tolerance = 0) {
   HarmonicBalanceOptions o;
   o.order = order;
   o.tolerance = tolerance;
@@ -40,12 +40,12 @@ TEST(Extreme, PendulumNearTheSeparatrix) {
   };
   for (const Case& c : {Case{3.0, 60}, Case{3.1, 80}, Case{3.14, 128}}) {
     const examples::ExampleSetup e = examples::BuildExample("pendulum", {{"theta0", c.theta0}});
-    const HarmonicBalanceSummary s = Solve(e, c.order);
+    const HarmonicBalanceSummary s = SolveToTolerance(e, c.order);
     ASSERT_TRUE(s.converged()) << c.theta0 << "\n" << s.FullReport();
     EXPECT_LT(FrequencyError(e, s), 1e-10) << "theta0 = " << c.theta0;
     EXPECT_LT(AmplitudeError(e, s), 1e-10) << "theta0 = " << c.theta0;
     // And truncation shows: the order matters, the test can fail.
-    const HarmonicBalanceSummary coarse = Solve(e, c.order / 2);
+    const HarmonicBalanceSummary coarse = SolveToTolerance(e, c.order / 2);
     if (coarse.converged()) {
       EXPECT_GT(FrequencyError(e, coarse), 1e-9) << "theta0 = " << c.theta0;
     }
@@ -60,7 +60,7 @@ TEST(Extreme, RelativisticNearTheSpeedOfLight) {
   };
   for (const Case& c : {Case{0.95, 110}, Case{0.99, 300}}) {
     const examples::ExampleSetup e = examples::BuildExample("relativistic", {{"beta", c.beta}});
-    const HarmonicBalanceSummary s = Solve(e, c.order);
+    const HarmonicBalanceSummary s = SolveToTolerance(e, c.order);
     ASSERT_TRUE(s.converged()) << c.beta << "\n" << s.FullReport();
     EXPECT_LT(FrequencyError(e, s), 1e-10) << "beta = " << c.beta;
     EXPECT_LT(AmplitudeError(e, s), 1e-10) << "beta = " << c.beta;
@@ -80,7 +80,7 @@ TEST(OrderSelection, ChosenOrderMeetsTheToleranceAndTheEstimateIsHonest) {
                         Case{"relativistic", "beta", 0.85, 1e-10},
                         Case{"relativistic", "beta", 0.95, 1e-12}}) {
     const examples::ExampleSetup e = examples::BuildExample(c.name, {{c.parameter, c.value}});
-    const HarmonicBalanceSummary s = Solve(e, 10, c.tolerance);
+    const HarmonicBalanceSummary s = SolveToTolerance(e, 10, c.tolerance);
     ASSERT_TRUE(s.converged()) << c.name << " " << c.value << "\n" << s.FullReport();
     const double error = std::max(FrequencyError(e, s) / e.reference.frequency, AmplitudeError(e, s));
     EXPECT_LE(error, c.tolerance) << c.name << " " << c.value << " at N = " << s.order;
@@ -90,7 +90,7 @@ TEST(OrderSelection, ChosenOrderMeetsTheToleranceAndTheEstimateIsHonest) {
     EXPECT_EQ(s.orders_tried.back(), s.order);
     // The last step still changed the solution by a tenth of the estimate
     // or more: the selection does not run far past the tolerance.
-    const HarmonicBalanceSummary before = Solve(e, s.orders_tried[s.orders_tried.size() - 2]);
+    const HarmonicBalanceSummary before = SolveToTolerance(e, s.orders_tried[s.orders_tried.size() - 2]);
     ASSERT_TRUE(before.converged());
     EXPECT_GE(SolutionDifference(*before.solution, *s.solution), 0.1 * s.truncation_estimate);
   }
@@ -113,9 +113,9 @@ TEST(OrderSelection, UnreachableToleranceIsNotConvergedWithTheEstimate) {
 // within the tolerance of a high-order one.
 TEST(OrderSelection, StartsFromOrderOne) {
   const examples::ExampleSetup e = examples::BuildExample("duffing");
-  const HarmonicBalanceSummary s = Solve(e, 1, 1e-10);
+  const HarmonicBalanceSummary s = SolveToTolerance(e, 1, 1e-10);
   ASSERT_TRUE(s.converged()) << s.FullReport();
-  const HarmonicBalanceSummary high = Solve(e, 60);
+  const HarmonicBalanceSummary high = SolveToTolerance(e, 60);
   ASSERT_TRUE(high.converged());
   EXPECT_LE(SolutionDifference(*s.solution, *high.solution), 1e-10) << "N = " << s.order;
   EXPECT_GE(s.truncation_estimate, SolutionDifference(*s.solution, *high.solution));

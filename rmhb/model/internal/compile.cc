@@ -194,6 +194,18 @@ class TapeBuilder {
           {"sin", Op::kSin},   {"cos", Op::kCos},   {"tan", Op::kTan},   {"exp", Op::kExp},
           {"log", Op::kLog},   {"asin", Op::kAsin}, {"acos", Op::kAcos}, {"atan", Op::kAtan},
           {"sinh", Op::kSinh}, {"cosh", Op::kCosh}, {"tanh", Op::kTanh}};
+      static const std::map<std::string, Op> switches = {
+          {"ramp", Op::kRamp}, {"heaviside", Op::kHeaviside}, {"sgn", Op::kSign}};
+      if (auto sw = switches.find(name); sw != switches.end() && e.nops() == 1) {
+        const int a = Node(e.op(0));
+        if (IsConst(a)) return Op1(sw->second, a);  // folded: no switch
+        Instruction in{sw->second};
+        in.a = a;
+        in.n = static_cast<int>(f_.switches_.size());
+        const int r = Emit(in);
+        f_.switches_.push_back(r);
+        return r;
+      }
       auto op = ops.find(name);
       if (op == ops.end() || e.nops() != 1)
         throw std::invalid_argument("cannot compile the function " + Str(e));

@@ -10,6 +10,7 @@
 
 #include "rmhb/model/internal/compile.h"
 #include "rmhb/model/internal/exact_numbers.h"
+#include "rmhb/model/internal/nonsmooth.h"
 
 namespace rmhb::model::internal {
 namespace {
@@ -49,6 +50,15 @@ struct FunctionEntry {
 [[gnu::aligned(16)]] ex ReadSinh(const exvector& a) { return GiNaC::sinh(a[0]); }
 [[gnu::aligned(16)]] ex ReadCosh(const exvector& a) { return GiNaC::cosh(a[0]); }
 [[gnu::aligned(16)]] ex ReadTanh(const exvector& a) { return GiNaC::tanh(a[0]); }
+// Piecewise-smooth functions (METHOD.md s.15), in three primitives.
+[[gnu::aligned(16)]] ex ReadAbs(const exvector& a) { return Abs(a[0]); }
+[[gnu::aligned(16)]] ex ReadMax(const exvector& a) { return Max(a[0], a[1]); }
+[[gnu::aligned(16)]] ex ReadMin(const exvector& a) { return Min(a[0], a[1]); }
+[[gnu::aligned(16)]] ex ReadSign(const exvector& a) { return sgn(a[0]); }
+[[gnu::aligned(16)]] ex ReadHeaviside(const exvector& a) { return heaviside(a[0]); }
+[[gnu::aligned(16)]] ex ReadClamp(const exvector& a) { return Clamp(a[0], a[1], a[2]); }
+[[gnu::aligned(16)]] ex ReadCoulomb(const exvector& a) { return coulomb(a[0], a[1], 0); }
+[[gnu::aligned(16)]] ex ReadCoulombEps(const exvector& a) { return coulomb(a[0], a[1], a[2]); }
 
 const std::vector<FunctionEntry>& Functions() {
   static const std::vector<FunctionEntry> table = {
@@ -72,19 +82,34 @@ const std::vector<FunctionEntry>& Functions() {
       {"arctan", 1, ReadAtan},
       {"sinh", 1, ReadSinh},
       {"cosh", 1, ReadCosh},
-      {"tanh", 1, ReadTanh}};
+      {"tanh", 1, ReadTanh},
+      {"abs", 1, ReadAbs},
+      {"max", 2, ReadMax},
+      {"min", 2, ReadMin},
+      {"sign", 1, ReadSign},
+      {"heaviside", 1, ReadHeaviside},
+      {"clamp", 3, ReadClamp},
+      {"coulomb", 2, ReadCoulomb},
+      {"coulomb", 3, ReadCoulombEps}};
   return table;
 }
 
 // What the recast knows how to turn into polynomial equations.
 const std::set<std::string> kRecastFunctions = {"sin",  "cos",  "tan",  "exp",  "log", "asin",
-                                                "acos", "atan", "sinh", "cosh", "tanh"};
+                                                "acos", "atan", "sinh", "cosh", "tanh",
+                                                // piecewise smooth: pointwise, not recast
+                                                "ramp", "heaviside", "sgn", "coulomb"};
+
+// Functions a model may not call: discontinuous beyond a single switch, or
+// spelt in another way here.
+const char* const kNonSmoothHint =
+    ": piecewise-smooth terms are written with abs, max, min, sign, heaviside, clamp or "
+    "coulomb (Coulomb friction)";
 
 const std::set<std::string>& NonSmoothFunctions() {
   static const std::set<std::string> names = {
-      "abs",  "fabs", "sign", "sgn",  "floor", "ceil",      "round",     "trunc", "frac",
-      "min",  "max",  "mod",  "fmod", "step",  "heaviside", "Heaviside", "atan2",
-      "csgn", "rem"};
+      "fabs", "sgn",  "floor", "ceil", "round", "trunc", "frac", "mod",
+      "fmod", "step", "Heaviside", "atan2", "csgn", "rem", "ramp"};
   return names;
 }
 
@@ -346,7 +371,7 @@ class Translator {
     if (token.primes == 0 && Arity(token.text).first > 0)
       Fail(i, "function '" + token.text + "' needs an argument: " + token.text + "(...)", token.text);
     if (token.primes == 0 && NonSmoothFunctions().count(token.text))
-      Fail(i, "function '" + token.text + "' is not supported: it is not smooth", token.text);
+      Fail(i, "function '" + token.text + "' is not supported" + kNonSmoothHint, token.text);
     if (token.primes > limits_.max_primes)
       Fail(i, "too many primes (derivative order above " + std::to_string(limits_.max_primes) + ")",
            token.text);
@@ -360,9 +385,7 @@ class Translator {
     const Token& token = tokens_[i];
     if (token.primes == 0 && NonSmoothFunctions().count(token.text))
       Fail(i,
-           "function '" + token.text +
-               "' is not supported: it is not smooth, and the recast into a polynomial system "
-               "needs differentiable functions",
+           "function '" + token.text + "' is not supported" + kNonSmoothHint,
            token.text);
     if (!resolver_.call) {
       bool known = true;

@@ -1,0 +1,215 @@
+// Piecewise-smooth model functions and Coulomb friction (METHOD.md s.15), on
+// model files written here: the primitives against std, a free bilinear
+// (unilateral spring) oscillator against its exact piecewise-linear period,
+// the event-located integration against the same period, a stick-slip
+// friction oscillator by the dynamic Lagrangian against event-located
+// integration (and the regularised tanh law against the same reference),
+// model-file errors with their location.
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "integrators/switched_integration.h"
+#include "rmhb/harmonic_balance.h"
+#include "rmhb/model/internal/compile.h"
+#include "rmhb/model/internal/nonsmooth.h"
+#include "rmhb/model/model_error.h"
+#include "rmhb/pipeline/model.h"
+
+namespace rmhb {
+namespace {
+
+std::string Write(const std::string& name, const std::string& text) {
+  const std::string file = (std::filesystem::temp_directory_path() / ("rmhb-nonsmooth-" + name + ".yaml")).string();
+  std::ofstream(file) << text;
+  return file;
+}
+
+// x'' + x + k max(x - 1, 0) = 0 from x(0) = A > 1 at rest: a circle of
+// radius R = sqrt(2E) where x < 1, an oscillation of frequency sqrt(1 + k)
+// about k / (1 + k) where x > 1.
+double BilinearPeriod(double k, double A) {
+  const double R = std::sqrt(A * A + k * (A - 1) * (A - 1)), c = k / (1 + k);
+  return 2 * M_PI - 2 * std::acos(1 / R) + 2 * std::acos((1 - c) / (A - c)) / std::sqrt(1 + k);
+}
+
+const char* kBilinear =
+    "variables: [x]\nparameters: {k: 100, A: 1.2}\nequations:\n  - \"x'' + x + k*max(x - 1, 0) = 0\"\n"
+    "frequencies: [{guess: 1.6}]\nconditions: [\"x(0) = A\", \"x'(0) = 0\"]\nguess: {x: \"A*cos(w*t)\"}\n";
+
+TEST(NonSmooth, PrimitivesAgainstStdAndFrozenModes) {
+  using namespace model::internal;
+  const GiNaC::symbol x("x");
+  const std::vector<GiNaC::ex> f = {Abs(x), Max(x, 1), Min(x, 1), sgn(x), heaviside(x), Clamp(x, -1, 2),
+                                    Max(x, 1).diff(x), Abs(x).diff(x)};
+  const model::CompiledFunction tape = Compile(f, {x});
+  EXPECT_EQ(tape.num_switches(), 6);  // shared subexpressions share their switch
+  for (double v : {-2.5, -0.5, 0.0, 0.7, 1.0, 1.5, 3.0}) {
+    const std::vector<double> out = tape({v});
+    EXPECT_EQ(out[0], std::abs(v));
+    EXPECT_EQ(out[1], std::max(v, 1.0));
+    EXPECT_EQ(out[2], std::min(v, 1.0));
+    EXPECT_EQ(out[3], double((v > 0) - (v < 0)));
+    EXPECT_EQ(out[4], v >= 0 ? 1.0 : 0.0);
+    EXPECT_EQ(out[5], std::clamp(v, -1.0, 2.0));
+    if (v != 1.0) {
+      EXPECT_EQ(out[6], v > 1 ? 1.0 : 0.0);
+    }
+    if (v != 0.0) {
+      EXPECT_EQ(out[7], v > 0 ? 1.0 : -1.0);
+    }
+  }
+  // Frozen on the positive side, ramp(x - 1) continues as x - 1 below 1.
+  const model::CompiledFunction ramp = Compile({Max(x, 1)}, {x});
+  ASSERT_EQ(ramp.num_switches(), 1);
+  const signed char up = 1, down = -1;
+  std::vector<double> work;
+  double in = 0.5, out = 0, argument = 0;
+  ramp.Evaluate(&in, &out, &work, &up);
+  ramp.SwitchArguments(work, &argument);
+  EXPECT_EQ(out, 0.5);
+  EXPECT_EQ(argument, -0.5);
+  in = 1.5;
+  ramp.Evaluate(&in, &out, &work, &down);
+  EXPECT_EQ(out, 1.0);
+}
+
+TEST(NonSmooth, BilinearOscillatorAgainstItsExactPeriod) {
+  const std::string file = Write("bilinear", kBilinear);
+  const double exact = 2 * M_PI / BilinearPeriod(100, 1.2);
+  double previous = HUGE_VAL;
+  for (int order : {32, 128}) {
+    Model model = LoadModel(file);
+    HarmonicBalanceOptions options;
+    options.order = order;
+    const HarmonicBalanceSummary s = SolveHarmonicBalance(model.problem, GuessAtOrder(model, order), options);
+    ASSERT_TRUE(s.usable()) << s.FullReport();
+    EXPECT_EQ(s.samples[0], NonSmoothSamples(order));  // the power of two >= 128 N + 1: 256 N here
+    EXPECT_LT(s.alias_residual, kNonSmoothAliasFloor);
+    const double error = std::abs(s.solution->frequencies()[0] - exact);
+    std::printf("bilinear oscillator, N = %d, M = %d: frequency error %.2e\n", order, s.samples[0], error);
+    EXPECT_LT(error, previous / 20);  // measured 7.6e-5 at N = 32, 1.1e-7 at N = 128
+    previous = error;
+  }
+  EXPECT_LT(previous, 1e-6);
+}
+
+TEST(NonSmooth, EventLocatedIntegrationKeepsTheExactPeriod) {
+  const Model model = LoadModel(Write("bilinear-ode", kBilinear));
+  ASSERT_TRUE(model.original_switched);
+  const double T = BilinearPeriod(100, 1.2);
+  const integrators::SwitchedOdeSystem ode = model.original_switched({2 * M_PI / T});
+  EXPECT_EQ(ode.num_switches, 1);
+  integrators::IntegratorOptions options;
+  options.relative_tolerance = 1e-13;
+  options.absolute_tolerance = 1e-15;
+  const auto r = integrators::IntegrateSwitched(ode, Eigen::Vector2d(1.2, 0), 0, {T, 10 * T}, options);
+  ASSERT_TRUE(r.result.ok()) << r.result.message;
+  EXPECT_EQ(r.events, 20);  // into and out of contact, 10 periods
+  const double error = (r.result.trajectory.states.row(1) - Eigen::RowVector2d(1.2, 0)).cwiseAbs().maxCoeff();
+  std::printf("event-located CVODE over 10 exact periods: %.1e\n", error);
+  EXPECT_LT(error, 2e-9);  // measured 6e-10 at A = 1.5
+}
+
+const char* kFriction =
+    "variables: [x]\nparameters: {W: 0.5, F: 1, Fn: 0.5}\nequations:\n"
+    "  - \"x'' + 0.1*x' + x + coulomb(x', Fn) = F*cos(W*t)\"\nfrequencies: [W]\n";
+
+// The solution's state against the event-located (stick-slip) integration
+// of the Coulomb model over one period, relative to max|state|.
+double AgainstStickSlip(const Model& coulomb, const Model& model, const HarmonicSolution& s, int* events) {
+  const double T = 2 * M_PI / s.frequencies()[0];
+  const integrators::ValidationReport v = integrators::ValidateSwitchedTrajectory(
+      coulomb.original_switched(s.frequencies()), [&](double t) { return model.state(s, t); }, T, 401);
+  *events = std::stoi(v.integrator.substr(v.integrator.find(", ", 20) + 2));
+  return v.ok ? JudgeValidation(model, s, v, T, 1).relative_error : HUGE_VAL;
+}
+
+TEST(Friction, StickSlipByTheDynamicLagrangianAgainstEventLocatedIntegration) {
+  const Model coulomb = LoadModel(Write("coulomb", kFriction));
+  ASSERT_TRUE(coulomb.original_switched);
+  double previous = HUGE_VAL;
+  for (int order : {10, 20, 40}) {
+    Model model = LoadModel(Write("coulomb", kFriction));
+    HarmonicBalanceOptions options;
+    options.order = order;
+    const HarmonicBalanceSummary s = SolveHarmonicBalance(model.problem, GuessAtOrder(model, order), options);
+    ASSERT_TRUE(s.usable()) << s.FullReport();
+    int events = 0;
+    const double error = AgainstStickSlip(coulomb, model, *s.solution, &events);
+    std::printf("Coulomb (Lagrangian AFT), N = %d: %.2e against stick-slip CVODE (%d switches)\n", order, error,
+                events);
+    EXPECT_EQ(events, 4);  // two stick phases a period: stick and slip, twice
+    EXPECT_LT(error, previous / 1.7);  // measured 3.5e-2, 1.8e-2, 9.2e-3: first order
+    previous = error;
+  }
+  EXPECT_LT(previous, 1.2e-2);
+  // The regularised law at N = 40 against the same reference: closer as
+  // eps falls, and the Lagrangian at the same N closer than eps = 0.1.
+  for (double eps : {0.1, 0.01}) {
+    const std::string text = std::string(kFriction).replace(std::string(kFriction).find("coulomb(x', Fn)"), 15,
+                                                            "Fn*tanh(x'/" + std::to_string(eps) + ")");
+    Model model = LoadModel(Write("tanh", text), {}, EquationsRoute::kOriginal);
+    HarmonicBalanceOptions options;
+    options.order = 40;
+    options.samples = {1024};
+    const HarmonicBalanceSummary s = SolveHarmonicBalance(model.problem, GuessAtOrder(model, 40), options);
+    ASSERT_TRUE(s.usable()) << s.FullReport();
+    int events = 0;
+    const double error = AgainstStickSlip(coulomb, model, *s.solution, &events);
+    std::printf("regularised Fn tanh(v / %.2g), N = 40: %.2e against stick-slip CVODE\n", eps, error);
+    if (eps == 0.1) {
+      EXPECT_GT(error, previous);
+    }
+  }
+}
+
+// A square-wave forcing, sign(cos(W t)), on a linear oscillator: each
+// harmonic of the response is the forcing's exact Fourier coefficient
+// (4 / (pi k), alternating, odd k) times the frequency response, so the
+// error of the first harmonic is the aliasing of the sampled jump alone.
+TEST(NonSmooth, SquareWaveForcingAgainstItsFourierSeries) {
+  const std::string file = Write("square", "variables: [x]\nparameters: {W: 0.7}\nequations:\n"
+                                           "  - \"x'' + 0.1*x' + x = sign(cos(W*t))\"\nfrequencies: [W]\n");
+  const std::complex<double> H = 1.0 / std::complex<double>(1 - 0.49, 0.07);
+  const std::complex<double> exact = 4 / M_PI * H;  // x = Re(exact e^{iWt}): cos part Re, sin part -Im
+  double previous = HUGE_VAL;
+  for (int samples : {1024, 4096}) {
+    Model model = LoadModel(file);
+    HarmonicBalanceOptions options;
+    options.order = 15;
+    options.samples = {samples};
+    const HarmonicBalanceSummary s = SolveHarmonicBalance(model.problem, GuessAtOrder(model, 15), options);
+    ASSERT_TRUE(s.usable()) << s.FullReport();
+    const Eigen::MatrixXd& c = s.solution->coefficients();
+    const double error = std::abs(std::complex<double>(c(0, 1), -c(0, 2)) - exact);
+    std::printf("square-wave forcing, M = %d: first harmonic %.2e from its Fourier value\n", samples, error);
+    EXPECT_LT(error, previous / 2);  // a jump aliases like 1 / M: measured 7.6e-3, 1.9e-3
+    previous = error;
+  }
+  EXPECT_LT(previous, 3e-3);
+}
+
+TEST(NonSmooth, ModelErrorsNameThePlace) {
+  auto error = [](const std::string& equation) {
+    try {
+      LoadModel(Write("bad", "variables: [x]\nequations:\n  - \"" + equation + "\"\nfrequencies: [1]\n"));
+    } catch (const model::ModelError& e) {
+      return std::string(e.what()).substr(std::string(e.what()).find(".yaml:") + 1);
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error("x'' + x + max(x) = cos(t)"), "yaml:3:16: max() takes 2 arguments, got 1 in equation 1");
+  EXPECT_EQ(error("x'' + x + floor(x) = cos(t)").substr(0, 48), "yaml:3:16: function 'floor' is not supported: pi");
+  EXPECT_EQ(error("x'' + x + coulomb(x', 1)^2 = cos(t)"),
+            "yaml:3:6: coulomb() must enter its equation linearly (a force added to it) in equation 1");
+}
+
+}  // namespace
+}  // namespace rmhb
