@@ -528,7 +528,7 @@ HarmonicBalanceSummary SelectIndexSet(const HarmonicBalanceProblem& problem, con
   double threshold = 1e-2 * options.tolerance;
   auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {
     s.orders_tried = tried;
-    if (s.solver.converged()) s.solver.status = SolverStatus::kNoConvergence;
+    if (s.solver.converged() && !options.soft_tolerance) s.solver.status = SolverStatus::kNoConvergence;
     s.solver.message = "index set selection: " + why + (s.solver.message.empty() ? "" : "; ") + s.solver.message;
     return s;
   };
@@ -549,6 +549,13 @@ HarmonicBalanceSummary SelectIndexSet(const HarmonicBalanceProblem& problem, con
     grown.insert(grown.end(), added.begin(), added.end());
     HarmonicBasis next = HarmonicBasis::FromHarmonics(d, grown, 0, "adaptive");
     next = HarmonicBasis::FromHarmonics(d, grown, Reach(next), "adaptive");
+    if (next.order() > options.max_order) {
+      std::ostringstream why;
+      why << "tolerance " << options.tolerance << " not reached by " << basis.size() << " harmonics (reach "
+          << basis.order() << "; the next set reaches " << next.order() << " > max_order " << options.max_order
+          << ") (estimated error " << current.truncation_estimate << ")";
+      return stop(current, why.str());
+    }
     const double unknowns = double(variables) * next.num_coefficients();
     if (8 * unknowns * unknowns > options.max_jacobian_bytes) {
       std::ostringstream why;
@@ -595,7 +602,7 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   }
   auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {
     s.orders_tried = tried;
-    if (s.solver.converged()) s.solver.status = SolverStatus::kNoConvergence;
+    if (s.solver.converged() && !options.soft_tolerance) s.solver.status = SolverStatus::kNoConvergence;
     s.solver.message = "order selection: " + why + (s.solver.message.empty() ? "" : "; ") +
                        s.solver.message;
     return s;

@@ -41,7 +41,13 @@ PreparedSolve PrepareSolve(Model model, const SolveSettings& a) {
                       : !a.order_given && !a.samples_given && options.rule == SamplingRule::kRhb ? a.default_tol
                                                                                                  : 0;
   options.tolerance_quantity = ParseTargetQuantity(a.tol_quantity);
-  options.max_order = std::max(a.max_order, options.order);
+  // The default target is a wish, not an order: bounded at 4x the start (at
+  // least 64), and not reaching it is reported, not a failure (a non-smooth
+  // model's algebraic decay would otherwise climb to --max-order).
+  const bool default_target = !(a.tol > 0) && options.tolerance > 0;
+  options.soft_tolerance = default_target;
+  options.max_order = std::max(default_target ? std::min(a.max_order, std::max(4 * options.order, 64)) : a.max_order,
+                               options.order);
   options.solver.method = ParseSolverMethod(a.solver);
   options.solver.max_iterations = a.max_iterations;
   options.solver.scaling = ParseScaling(a.scaling);

@@ -56,7 +56,8 @@ std::string Details(const SolveSummary& s) {
   if (s.converged()) out += "physical     " + PhysicalLine(hb) + "\n";
   if (hb.truncation_estimate >= 0) {
     out += Format("order        %d %s target %g on the %s (orders", hb.order,
-                  s.converged() ? "chosen for" : "reached, short of", hb.tolerance, ToString(hb.tolerance_quantity));
+                  s.converged() && hb.truncation_estimate <= hb.tolerance ? "chosen for" : "reached, short of",
+                  hb.tolerance, ToString(hb.tolerance_quantity));
     for (int o : hb.orders_tried) out += Format(" %d", o);
     out += Format("), estimated error: state %.1e", hb.state_estimate);
     if (hb.frequency_estimate >= 0) out += Format(", frequency %.1e", hb.frequency_estimate);
