@@ -28,7 +28,6 @@ Model ExampleModel(const std::string& name, const std::map<std::string, double>&
   p.problem = setup->problem;
   p.default_order = setup->default_order;
   p.guess = [setup](int) { return setup->guess; };
-  p.basis_for_order = setup->basis_for_order;
   p.original = [setup](const std::vector<double>&) {
     return integrators::OdeSystem{setup->original.dimension(), setup->original.rhs};
   };
@@ -48,6 +47,7 @@ Model ExampleModel(const std::string& name, const std::map<std::string, double>&
   p.num_user_conditions = static_cast<int>(setup->problem.conditions.size()) - pins;
   p.overrides = overrides;
   p.reload = [name](const model::ParameterValues& values) { return ExampleModel(name, values); };
+  DetectInvariances(&p);  // as LoadModel: the same symmetries for the same equations
   return p;
 }
 

@@ -285,25 +285,10 @@ ExampleSetup RayleighPlesset(const Values& p) {
 // but by ~100 per step of 2 in m + n. The paper's diamond |m| + |n| <= p
 // reaches slow index n only at p ~ 2n: at p = 5 with the frequencies solved
 // for, the error over [0, 2000] is still 8.4e-2 (the paper, with FFT ones,
-// 9.21e-3). BeatBasis below follows the spectrum instead.
-
-// Harmonics (m, n) = (j - l, l) with the fast index j = m + n odd and the slow
-// index l = n, |2l - 1| + 3(j - 1) <= 8 order - 7: the region above a level
-// that falls with the order, from the measured decay (~3 per step of l, ~100
-// per step of 2 in j; the main oscillation sits at l = 0 for x and l = 1 for
-// y, hence the centre 1/2). Order 1 is the linear guess (x at w1, y at w2);
-// the error over t in [0, 2000] then falls ~100-fold per order: 1.3e-2 at 2,
-// 4.7e-5 at 3, 3.2e-7 at 4, 2.8e-9 at 5 (115 harmonics, 458 unknowns after
-// the symmetries), 1.6e-10 at 6 (CVODE's own accuracy).
-HarmonicBasis BeatBasis(int order) {
-  if (order < 1) throw std::invalid_argument("asym-pendulum: order must be >= 1");
-  std::vector<std::vector<int>> harmonics;
-  const int budget = 8 * order - 7;
-  for (int j = 1; 3 * (j - 1) + 1 <= budget; j += 2)
-    for (int l = -4 * order; l <= 4 * order + 1; ++l)
-      if (std::abs(2 * l - 1) + 3 * (j - 1) <= budget) harmonics.push_back({j - l, l});
-  return HarmonicBasis::FromHarmonics(2, harmonics, order, "beat (fast odd, slow band)");
-}
+// 9.21e-3). The solve's adaptive index set (METHOD.md s.8) follows the
+// spectrum instead, and the reflections the orbit keeps are detected on the
+// equations (DetectHalfTurnSymmetries): nothing here is specific to it, and
+// examples/models/asym-pendulum.yaml gives the same answer.
 
 ExampleSetup AsymmetricPendulum(const Values& p) {
   const double k = p.at("kappa"), x0 = p.at("x0"), y0 = p.at("y0");
@@ -324,12 +309,6 @@ ExampleSetup AsymmetricPendulum(const Values& p) {
   std::vector<PointCondition> conditions = {
       PointCondition::Value(0, x0, "x(0) = x0"), PointCondition::Value(1, y0, "y(0) = y0"),
       PointCondition::Value(2, 0.0, "x'(0) = 0"), PointCondition::Value(3, 0.0, "y'(0) = 0")};
-  // Released from rest, the orbit keeps both reflections of the system:
-  // z -> -z (odd m + n) and x -> -x alone (x at even n, y at odd n). Each
-  // halves the unknowns.
-  std::vector<HalfTurnSymmetry> symmetries = {
-      {{1, 1}, {-1, -1, -1, -1}, "(x, y) -> -(x, y): odd m + n"},
-      {{1, 0}, {-1, 1, -1, 1}, "x -> -x: x at even n, y at odd n"}};
   auto rhs = [k](double, const double* z, double* dz) {
     // The second derivatives appear linearly: solve the 2x2 mass-matrix system.
     const double x = z[0], y = z[1], p = z[2], q = z[3];
@@ -343,22 +322,18 @@ ExampleSetup AsymmetricPendulum(const Values& p) {
     dz[2] = (b1 * a22 - a12 * b2) / det;
     dz[3] = (a11 * b2 - a21 * b1) / det;
   };
-  // Guess: simulate from the initial state and read w1, w2 off the spectral
-  // peaks of x and y, then fit at order 2. Linear estimates are not enough:
-  // the beat (w2 - w1 ~ 0.0077 here) differs from the linear one
-  // (1 - sqrt(1 - k) ~ 0.005) by the amplitude-dependent energy exchange.
-  QuasiPeriodicGuessOptions guess_options;
-  guess_options.duration = 4000;  // ~5 beats of 2 pi / 0.0077: separates the beat's peaks
-  guess_options.step = 0.05;
-  guess_options.sample_every = 10;
-  const double wx = std::sqrt(1 - k), wy = 1.0;
-  const std::vector<BaseFrequencySearch> search = {{false, 0, 0, 0.7 * wx, 1.05 * wx},
-                                                   {false, 0, 1, 0.7 * wy, 1.05 * wy}};
-  HarmonicSolution guess = GuessFromQuasiPeriodicSimulation(
-      rhs, Eigen::Vector4d(x0, y0, 0, 0), search, BeatBasis(2), s.variables(),
-      [](const Eigen::VectorXd& z) { return z; }, guess_options);
-  ExampleSetup e{{s, guess.frequencies(), {true, true}, conditions, symmetries},
-                 guess, {}, {}, 5, BeatBasis};
+  // Guess: the linear modes x0 cos(w1 t), y0 cos(w2 t) at the paper's FFT
+  // frequencies, as the model file writes it.
+  const std::vector<double> w = {0.9857, 0.9935};
+  const HarmonicBasis linear = HarmonicBasis::Diamond(2, 1);
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(4, linear.num_coefficients());
+  const int k10 = linear.Find({1, 0}), k01 = linear.Find({0, 1});
+  g(0, 2 * k10 - 1) = x0;
+  g(1, 2 * k01 - 1) = y0;
+  g(2, 2 * k10) = -w[0] * x0;
+  g(3, 2 * k01) = -w[1] * y0;
+  const HarmonicSolution guess(linear, w, g, s.variables());
+  ExampleSetup e{{s, w, {true, true}, conditions}, guess, {}, {}, 7};
   e.original.names = {"x", "y", "x'", "y'"};
   e.original.initial_state = State({x0, y0, 0, 0});
   e.original.rhs = rhs;
@@ -394,37 +369,21 @@ ExampleSetup ForcedVanDerPol(const Values& p) {
     dy[0] = y[1];
     dy[1] = eps * (1 - y[0] * y[0]) * y[1] - y[0] + F * std::cos(w * t);
   };
-  // Guess: simulate past the transient (the torus attracts at rate ~eps/2),
-  // read w2 off the spectral peak of x near the free limit cycle's frequency,
-  // fit at order 5, then turn theta_2 so that x'(0) = 0 (x at a maximum).
-  QuasiPeriodicGuessOptions guess_options;
-  guess_options.transient = 40 / eps + 100;
-  guess_options.duration = 600;
-  guess_options.step = 0.02;
-  guess_options.sample_every = 10;
+  // Guess: the free limit cycle 2 cos(w2 t) and the linear forced response
+  // F / (1 - w^2) cos(w t), as the model file writes it. The solve detects
+  // the symmetry (x -> -x with the forcing half a period on: odd m + n) and
+  // chooses its index set (METHOD.md s.8).
   const double w_free = 1.0 - eps * eps / 16.0;
-  HarmonicSolution guess = GuessFromQuasiPeriodicSimulation(
-      rhs, Eigen::Vector2d(2.0, 0.0), {{true, w}, {false, 0, 0, 0.5 * w_free, 1.5 * w_free}},
-      HarmonicBasis::Diamond(2, 5), s.variables(), [](const Eigen::VectorXd& y) { return y; },
-      guess_options);
-  auto slope = [&](double phase) { return guess.Shifted({0, phase}).Derivative(0, 0.0); };
-  const int scan = 720;
-  for (int i = 0; i < scan; ++i) {
-    double a = 2 * M_PI * i / scan, b = 2 * M_PI * (i + 1) / scan;
-    if (!(slope(a) > 0 && slope(b) <= 0)) continue;
-    for (int it = 0; it < 60; ++it) {
-      const double mid = 0.5 * (a + b);
-      (slope(mid) > 0 ? a : b) = mid;
-    }
-    guess = guess.Shifted({0, 0.5 * (a + b)});
-    break;
-  }
-  const std::vector<HalfTurnSymmetry> symmetries = {
-      {{1, 1}, {-1, -1}, "x -> -x with the forcing half a period on: odd m + n"}};
-  ExampleSetup e{{s, guess.frequencies(), {false, true},
-                  {PointCondition::Value(1, 0.0, "x'(0) = 0 (phase of theta_2)")}, symmetries},
-                 guess, {}, {}, 21,
-                 [](int order) { return HarmonicBasis::WeightedDiamond({2, 1}, order); }};
+  const HarmonicBasis linear = HarmonicBasis::Diamond(2, 1);
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(2, linear.num_coefficients());
+  const int k10 = linear.Find({1, 0}), k01 = linear.Find({0, 1});
+  g(0, 2 * k10 - 1) = F / (1 - w * w);
+  g(0, 2 * k01 - 1) = 2;
+  g(1, 2 * k10) = -w * F / (1 - w * w);
+  g(1, 2 * k01) = -w_free * 2;
+  const HarmonicSolution guess(linear, {w, w_free}, g, s.variables());
+  ExampleSetup e{{s, guess.frequencies(), {false, true}, {PointCondition::Value(1, 0.0, "x'(0) = 0 (phase of theta_2)")}},
+                 guess, {}, {}, 7};
   e.original.names = {"x", "x'"};
   e.original.initial_state = State({2.0, 0.0});
   e.original.rhs = rhs;

@@ -52,10 +52,6 @@ struct ExampleSetup {
   OriginalOde original;
   Reference reference;
   int default_order = 10;
-  // The basis of order p when the standard shapes do not fit the spectrum
-  // (empty: HarmonicBalanceOptions::shape decides). Pass it on as
-  // HarmonicBalanceOptions::basis_for_order.
-  std::function<HarmonicBasis(int order)> basis_for_order = {};
 };
 
 struct Example {

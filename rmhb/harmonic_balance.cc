@@ -8,6 +8,8 @@
 #include <stdexcept>
 
 #include "rmhb/collocation_residual.h"
+#include "rmhb/symmetry.h"
+#include "rmhb/truncation_estimate.h"
 
 namespace rmhb {
 
@@ -26,6 +28,16 @@ std::string HarmonicBalanceOptions::IsValid() const {
     return "min_frequency_ratio must be in [0, 1)";
   if (std::string why = definition_check.IsValid(); !why.empty()) return "definition_check: " + why;
   return solver.IsValid();
+}
+
+const char* ToString(TargetQuantity quantity) {
+  return quantity == TargetQuantity::kFrequency ? "frequency" : "state";
+}
+
+TargetQuantity ParseTargetQuantity(const std::string& name) {
+  if (name == "state") return TargetQuantity::kState;
+  if (name == "frequency") return TargetQuantity::kFrequency;
+  throw std::invalid_argument("target quantity must be state or frequency (got '" + name + "')");
 }
 
 HarmonicBasis MakeBasis(int num_bases, const HarmonicBalanceOptions& options) {
@@ -225,7 +237,10 @@ std::string HarmonicBalanceSummary::FullReport() const {
   if (truncation_estimate >= 0) {
     out << "  order selection: orders";
     for (int o : orders_tried) out << " " << o;
-    out << "; estimated truncation error " << truncation_estimate << "\n";
+    out << "; target " << tolerance << " (" << ToString(tolerance_quantity) << "); estimated error: state "
+        << state_estimate;
+    if (frequency_estimate >= 0) out << ", frequency " << frequency_estimate;
+    out << (estimate_calibrated ? "" : " (tail only)") << "\n";
   }
   if (solution) {
     out << "  frequencies:";
@@ -237,15 +252,17 @@ std::string HarmonicBalanceSummary::FullReport() const {
 
 namespace {
 
+// On `given_basis` when set, else on the options' basis at their order.
 HarmonicBalanceSummary SolveAtOrder(const HarmonicBalanceProblem& problem,
                                     const HarmonicSolution& guess,
-                                    const HarmonicBalanceOptions& options) {
+                                    const HarmonicBalanceOptions& options,
+                                    const HarmonicBasis* given_basis = nullptr) {
   HarmonicBalanceSummary summary;
-  summary.order = options.order;
+  summary.order = given_basis ? given_basis->order() : options.order;
   summary.rule = options.rule;
   summary.degree = problem.system.Degree();
   const int d = static_cast<int>(problem.frequencies.size());
-  const HarmonicBasis basis = MakeBasis(d, options);
+  const HarmonicBasis basis = given_basis ? *given_basis : MakeBasis(d, options);
   summary.samples = SamplesForRule(problem.system, basis, options.rule, &summary.alias_free_samples);
   if (!options.samples.empty()) {
     if (static_cast<int>(options.samples.size()) != d)
@@ -335,9 +352,12 @@ HarmonicBalanceSummary SolveAtOrder(const HarmonicBalanceProblem& problem,
   return summary;
 }
 
+// `converged_below`, when given, receives the last coarse solution that
+// converged (order selection calibrates its estimate on it).
 HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& problem,
                                              const HarmonicSolution& initial_guess,
-                                             const HarmonicBalanceOptions& options) {
+                                             const HarmonicBalanceOptions& options,
+                                             std::optional<HarmonicSolution>* converged_below = nullptr) {
   HarmonicSolution guess = initial_guess;
   // Warm start through coarser orders: cheap solves that bring the guess into
   // the quadratic convergence region of the large system.
@@ -360,41 +380,206 @@ HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& probl
           s.solver.status == SolverStatus::kNoConvergence)
         if (s.solution && s.solver.final_residual < s.solver.initial_residual)
           guess = *s.solution;
+      // Converged (step below 1e-10: Newton's next error ~1e-20): the coarse
+      // order's own solution, however large its truncation.
+      if (converged_below && s.converged() && s.solution) *converged_below = s.solution;
     }
   }
   return SolveAtOrder(problem, guess, options);
 }
 
-// Harmonic magnitudes |c_k| (each variable scaled as in SolutionDifference)
-// fall geometrically for an analytic solution; a straight line through the
-// log of their running-maximum envelope over the upper half of the levels
-// predicts the level where they reach `target`.
-int PredictOrder(const HarmonicSolution& s, double target) {
+// The estimate of the quantity the tolerance is on (METHOD.md s.8): the
+// frequency only when the problem has an unknown one and it was asked for.
+double Targeted(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions& options,
+                const TruncationEstimate& e) {
+  return options.tolerance_quantity == TargetQuantity::kFrequency && problem.num_unknown_frequencies() > 0
+             ? e.frequency
+             : e.state;
+}
+
+void Record(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions& options,
+            const TruncationEstimate& e, HarmonicBalanceSummary* s) {
+  s->truncation_estimate = Targeted(problem, options, e);
+  s->state_estimate = e.state;
+  s->frequency_estimate = problem.num_unknown_frequencies() > 0 ? e.frequency : -1;
+  s->estimate_calibrated = e.calibrated;
+  s->tolerance = options.tolerance;
+  s->tolerance_quantity = options.tolerance_quantity;
+}
+
+// The next order: where the fitted decay puts the estimate at half the
+// tolerance, in steps of at least one (p + 1 for several bases, N + N/8 for
+// one) and at most a factor 1.5 for one base (p + 2 for several): small
+// steps, so that the solves before the last cost at most about as much as it
+// (sum of (1/1.5^3)^i ~ 1.4).
+int NextOrder(int order, int bases, const TruncationEstimate& e, double tolerance) {
+  const double aim = 0.5 * tolerance;
+  const int least = bases == 1 ? order + std::max(1, order / 8) : order + 1;
+  const int most = bases == 1 ? std::max(least, (3 * order + 1) / 2) : order + 2;
+  const int level = TruncationEstimate{e}.PredictLevel(aim);
+  if (level < 0) return most;
+  // Orders and levels coincide for the standard shapes; a custom index set
+  // moves by the same number of levels.
+  return std::clamp(order + (level - e.top_level), least, most);
+}
+
+// Adaptive enrichment (METHOD.md s.8): the harmonics next to every
+// coefficient above `threshold` (steps |d|_1 <= 2, so that a spectrum with
+// one parity still connects), extended along d while the ratio to the
+// inner neighbour k - d predicts sizes above the threshold (up to 6 steps:
+// a slow beat spreads the spectrum far along one direction). At most as
+// many as the basis holds, the largest predicted first: the set at most
+// doubles per round.
+std::vector<std::vector<int>> Enrich(const HarmonicSolution& s, double threshold) {
   const HarmonicBasis& basis = s.basis();
-  const Eigen::MatrixXd& c = s.coefficients();
-  int top = 0;
-  std::vector<int> level(basis.size());
+  const int d = basis.num_bases();
+  const std::vector<double> size = HarmonicSizes(s);
+  std::map<std::vector<int>, int> index;
   for (int k = 0; k < basis.size(); ++k) {
-    for (int m : basis.harmonic(k)) level[k] += std::abs(m);
-    top = std::max(top, level[k]);
+    index[basis.harmonic(k)] = k;
+    std::vector<int> neg = basis.harmonic(k);
+    for (int& v : neg) v = -v;
+    index[neg] = k;
   }
-  std::vector<double> size(top + 1, 0.0);
-  for (int j = 0; j < s.num_variables(); ++j) {
-    const double scale = std::max(1.0, c.row(j).cwiseAbs().maxCoeff());
-    for (int k = 1; k < basis.size(); ++k)
-      size[level[k]] = std::max(size[level[k]], std::hypot(c(j, 2 * k - 1), c(j, 2 * k)) / scale);
+  std::vector<std::vector<int>> steps;
+  for (int i = 0; i < d; ++i)
+    for (int a : {-2, -1, 1, 2}) {
+      std::vector<int> step(d, 0);
+      step[i] = a;
+      steps.push_back(step);
+      if (std::abs(a) == 1)
+        for (int j = i + 1; j < d; ++j)
+          for (int b : {-1, 1}) {
+            std::vector<int> t = step;
+            t[j] = b;
+            steps.push_back(t);
+          }
+    }
+  std::map<std::vector<int>, double> candidates;  // canonical sign -> predicted size
+  auto add = [&](std::vector<int> k, double predicted) {
+    bool zero = true;
+    for (int v : k) zero = zero && v == 0;
+    if (zero || index.count(k)) return;
+    const auto first = std::find_if(k.begin(), k.end(), [](int v) { return v != 0; });
+    if (*first < 0)
+      for (int& v : k) v = -v;
+    double& best = candidates[k];
+    best = std::max(best, predicted);
+  };
+  for (int k = 1; k < basis.size(); ++k) {
+    if (!(size[k] > threshold)) continue;
+    for (const auto& step : steps) {
+      std::vector<int> inner = basis.harmonic(k), next = inner;
+      for (int i = 0; i < d; ++i) inner[i] -= step[i], next[i] += step[i];
+      const auto in = index.find(inner);
+      const double ratio = in != index.end() && size[in->second] > 0 ? size[k] / size[in->second] : 1;
+      int layers = 1;
+      if (ratio < 0.9) layers = std::clamp(int(std::ceil(std::log(threshold / size[k]) / std::log(ratio))), 1, 6);
+      double predicted = size[k];
+      for (int l = 1; l <= layers; ++l) {
+        predicted *= std::min(ratio, 1.0);
+        add(next, predicted);
+        for (int i = 0; i < d; ++i) next[i] += step[i];
+      }
+    }
   }
-  for (int l = top - 1; l >= 0; --l) size[l] = std::max(size[l], size[l + 1]);
-  double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
-  for (int l = std::max(1, top / 2); l <= top; ++l) {
-    if (!(size[l] > 0)) continue;
-    const double y = std::log(size[l]);
-    sx += l, sy += y, sxx += double(l) * l, sxy += l * y, n += 1;
+  std::vector<std::pair<double, std::vector<int>>> ranked;
+  for (auto& [k, predicted] : candidates) ranked.push_back({predicted, k});
+  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  if (static_cast<int>(ranked.size()) > basis.size()) ranked.resize(basis.size());
+  std::vector<std::vector<int>> out;
+  for (auto& r : ranked) out.push_back(std::move(r.second));
+  return out;
+}
+
+int Reach(const HarmonicBasis& basis) {
+  int top = 0;
+  for (const auto& k : basis.harmonics()) {
+    int l = 0;
+    for (int m : k) l += std::abs(m);
+    top = std::max(top, l);
   }
-  const double slope = n >= 2 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : 0;
-  if (!(slope < -1e-3) || !(size[top] > 0)) return 2 * top;  // no decay seen yet
-  if (size[top] <= target) return top;
-  return top + static_cast<int>(std::ceil(std::log(target / size[top]) / slope));
+  return top;
+}
+
+// Several bases without a fixed shape: from the diamond of options.order
+// with the guess's harmonics (identified lines, when the guess came from a
+// trajectory), enrich until the estimate meets the tolerance. orders_tried
+// lists the reach max |k|_1 of each set.
+HarmonicBalanceSummary SelectIndexSet(const HarmonicBalanceProblem& problem, const HarmonicSolution& guess,
+                                      const HarmonicBalanceOptions& options) {
+  const int d = static_cast<int>(problem.frequencies.size());
+  HarmonicBalanceOptions o = options;
+  o.tolerance = 0;
+  std::vector<std::vector<int>> start = HarmonicBasis::Diamond(d, options.order).harmonics();
+  if (guess.basis().num_bases() == d)
+    for (const auto& k : guess.basis().harmonics()) start.push_back(k);
+  HarmonicBasis basis = HarmonicBasis::FromHarmonics(d, start, options.order, "adaptive");
+  basis = HarmonicBasis::FromHarmonics(d, start, Reach(basis), "adaptive");
+  HarmonicBalanceSummary current = SolveAtOrder(problem, guess, o, &basis);
+  std::vector<int> tried = {basis.order()};
+  // The symmetries of the equations that the first solution has (to 1e-11:
+  // Newton from an asymmetric guess lands on a symmetric solution up to
+  // round-off), imposed from then on: a quarter of the unknowns per pair.
+  HarmonicBalanceProblem working = problem;
+  if (current.converged() && current.solution) {
+    const std::vector<HalfTurnSymmetry> found = SymmetriesOf(
+        *current.solution, DetectHalfTurnSymmetries(problem.system, d), problem.symmetries, 1e-11);
+    for (const HalfTurnSymmetry& s : found) current.symmetries_found.push_back(s.description);
+    working.symmetries.insert(working.symmetries.end(), found.begin(), found.end());
+  }
+  const std::vector<std::string> symmetries_found = current.symmetries_found;
+  std::optional<HarmonicSolution> lower;
+  double threshold = 1e-2 * options.tolerance;
+  auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {
+    s.orders_tried = tried;
+    if (s.solver.converged() && !options.soft_tolerance) s.solver.status = SolverStatus::kNoConvergence;
+    s.solver.message = "index set selection: " + why + (s.solver.message.empty() ? "" : "; ") + s.solver.message;
+    return s;
+  };
+  const int variables = problem.system.num_variables();
+  for (;;) {
+    if (!current.converged() || !current.solution)
+      return stop(current, "the solve on " + std::to_string(basis.size()) + " harmonics failed");
+    const TruncationEstimate e = EstimateTruncation(*current.solution, lower ? &*lower : nullptr);
+    Record(problem, options, e, &current);
+    std::vector<std::vector<int>> added = Enrich(*current.solution, threshold);
+    if (current.truncation_estimate <= options.tolerance && (e.calibrated || added.empty())) break;
+    if (added.empty()) {
+      if (threshold < 1e-15) return stop(current, "no harmonic left to add above round-off");
+      threshold *= 0.1;
+      continue;
+    }
+    std::vector<std::vector<int>> grown = basis.harmonics();
+    grown.insert(grown.end(), added.begin(), added.end());
+    HarmonicBasis next = HarmonicBasis::FromHarmonics(d, grown, 0, "adaptive");
+    next = HarmonicBasis::FromHarmonics(d, grown, Reach(next), "adaptive");
+    if (next.order() > options.max_order) {
+      std::ostringstream why;
+      why << "tolerance " << options.tolerance << " not reached by " << basis.size() << " harmonics (reach "
+          << basis.order() << "; the next set reaches " << next.order() << " > max_order " << options.max_order
+          << ") (estimated error " << current.truncation_estimate << ")";
+      return stop(current, why.str());
+    }
+    const double unknowns = double(variables) * next.num_coefficients();
+    if (8 * unknowns * unknowns > options.max_jacobian_bytes) {
+      std::ostringstream why;
+      why << "tolerance " << options.tolerance << " not reached by " << basis.size()
+          << " harmonics; the next set (" << next.size() << ") needs a dense Jacobian over "
+          << Gib(options.max_jacobian_bytes) << " (estimated error " << current.truncation_estimate << ")";
+      return stop(current, why.str());
+    }
+    HarmonicBalanceSummary higher = SolveAtOrder(working, *current.solution, o, &next);
+    higher.symmetries_found = symmetries_found;
+    tried.push_back(next.order());
+    if (!higher.converged() || !higher.solution)
+      return stop(higher, "the solve on " + std::to_string(next.size()) + " harmonics failed");
+    lower = current.solution;
+    current = std::move(higher);
+    basis = next;
+  }
+  current.orders_tried = tried;
+  return current;
 }
 
 HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
@@ -402,8 +587,10 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
                                    const HarmonicBalanceOptions& options) {
   HarmonicBalanceOptions o = options;
   o.tolerance = 0;
-  HarmonicBalanceSummary current = SolveWithContinuation(problem, initial_guess, o);
+  std::optional<HarmonicSolution> lower;
+  HarmonicBalanceSummary current = SolveWithContinuation(problem, initial_guess, o, &lower);
   std::vector<int> tried = {o.order};
+  const int bases = static_cast<int>(problem.frequencies.size());
   // Too low a start can have no solution near the physical one (the
   // pendulum near its separatrix at N = 25): start higher rather than fail.
   auto fit = [&](int order) {
@@ -414,12 +601,13 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   while (!current.converged() && 2 * o.order <= options.max_order && fit(2 * o.order) &&
          tried.size() < 4) {
     o.order *= 2;
-    current = SolveWithContinuation(problem, initial_guess, o);
+    lower.reset();
+    current = SolveWithContinuation(problem, initial_guess, o, &lower);
     tried.push_back(o.order);
   }
   auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {
     s.orders_tried = tried;
-    if (s.solver.converged()) s.solver.status = SolverStatus::kNoConvergence;
+    if (s.solver.converged() && !options.soft_tolerance) s.solver.status = SolverStatus::kNoConvergence;
     s.solver.message = "order selection: " + why + (s.solver.message.empty() ? "" : "; ") +
                        s.solver.message;
     return s;
@@ -433,48 +621,51 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
     else
       hi = mid - 1;
   }
-  double estimate = INFINITY;
   for (;;) {
     if (!current.converged() || !current.solution)
       return stop(current, "the solve at order " + std::to_string(o.order) + " failed");
+    TruncationEstimate e = EstimateTruncation(*current.solution, lower ? &*lower : nullptr);
+    // Met by the tail alone: measure the problem's constant once on a lower
+    // order (warm, cheaper than this solve) before saying so.
+    if (!e.calibrated && Targeted(problem, options, e) <= options.tolerance && o.order > 1) {
+      HarmonicBalanceOptions below = o;
+      below.order = std::max(1, o.order - std::max(2, o.order / 5));
+      below.order_continuation = false;
+      const HarmonicBalanceSummary check = SolveAtOrder(problem, *current.solution, below);
+      if (check.converged() && check.solution) {
+        lower = check.solution;
+        e = EstimateTruncation(*current.solution, &*lower);
+      }
+    }
+    Record(problem, options, e, &current);
+    if (current.truncation_estimate <= options.tolerance) break;
+    std::ostringstream why;
     if (o.order >= fits && fits < options.max_order) {
       HarmonicBalanceOptions above = o;
       above.order = fits + 1;
-      std::ostringstream why;
       why << "tolerance " << options.tolerance << " not reached by order " << fits
           << ", the largest whose dense Jacobian fits in " << Gib(options.max_jacobian_bytes)
           << " (order " << fits + 1 << " would need " << Gib(DenseJacobianSize(problem, above).bytes())
-          << "; max_jacobian_bytes, --max-jacobian-gib) (estimated error " << estimate << ")";
-      current.truncation_estimate = estimate;
+          << "; max_jacobian_bytes, --max-jacobian-gib) (estimated error " << current.truncation_estimate << ")";
       return stop(current, why.str());
     }
     if (o.order >= options.max_order) {
-      std::ostringstream why;
-      why << "tolerance " << options.tolerance << " not reached by max_order "
-          << options.max_order << " (estimated error " << estimate << ")";
-      current.truncation_estimate = estimate;
+      why << "tolerance " << options.tolerance << " not reached by max_order " << options.max_order
+          << " (estimated error " << current.truncation_estimate << ")";
       return stop(current, why.str());
     }
-    // Aim a little below the tolerance; grow by 25% at least (a difference
-    // of nearly equal orders says little) and at most double.
-    const int predicted = PredictOrder(*current.solution, 0.1 * options.tolerance);
-    const int least = o.order + std::max(2, o.order / 4);
-    const int next = std::min({options.max_order, fits,
-                               std::clamp(predicted + 2, least, std::max(least, 2 * o.order))});
     HarmonicBalanceOptions n = o;
-    n.order = next;
+    n.order = std::min({options.max_order, fits, NextOrder(o.order, bases, e, options.tolerance)});
     n.order_continuation = false;  // warm-started from the previous order
     HarmonicBalanceSummary higher = SolveAtOrder(problem, *current.solution, n);
-    tried.push_back(next);
+    tried.push_back(n.order);
     if (!higher.converged() || !higher.solution)
-      return stop(higher, "the solve at order " + std::to_string(next) + " failed");
-    estimate = SolutionDifference(*current.solution, *higher.solution);
+      return stop(higher, "the solve at order " + std::to_string(n.order) + " failed");
+    lower = current.solution;
     current = std::move(higher);
     o = n;
-    if (estimate <= options.tolerance) break;
   }
   current.orders_tried = tried;
-  current.truncation_estimate = estimate;
   return current;
 }
 
@@ -505,9 +696,11 @@ HarmonicBalanceSummary SolveHarmonicBalance(const HarmonicBalanceProblem& proble
     throw std::invalid_argument("initial guess has " + std::to_string(initial_guess.num_variables()) +
                                 " variables, the system " +
                                 std::to_string(problem.system.num_variables()));
-  HarmonicBalanceSummary summary = options.tolerance > 0
-                                       ? SelectOrder(problem, initial_guess, options)
-                                       : SolveWithContinuation(problem, initial_guess, options);
+  const bool adaptive = options.shape == BasisShape::kAdaptive && !options.basis_for_order &&
+                        problem.frequencies.size() > 1;
+  HarmonicBalanceSummary summary = options.tolerance <= 0 ? SolveWithContinuation(problem, initial_guess, options)
+                                   : adaptive             ? SelectIndexSet(problem, initial_guess, options)
+                                                          : SelectOrder(problem, initial_guess, options);
   CheckPhysical(problem, options, &summary);
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;

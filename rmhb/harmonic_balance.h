@@ -22,7 +22,19 @@
 
 namespace rmhb {
 
-enum class BasisShape { kDiamond, kBox };
+// kAdaptive (several bases, with a tolerance): start from the diamond of
+// `order` and the guess's harmonics, then add the neighbours of every
+// coefficient above the tolerance until the truncation estimate meets it
+// (METHOD.md s.8); without a tolerance, the diamond.
+enum class BasisShape { kDiamond, kBox, kAdaptive };
+
+// What an accuracy target bounds: the time-domain solution (every variable,
+// relative to its largest coefficient) or the unknown base frequencies
+// (relative), which converge faster (METHOD.md s.8).
+enum class TargetQuantity { kState, kFrequency };
+const char* ToString(TargetQuantity quantity);  // "state", "frequency"
+// Throws std::invalid_argument for another name.
+TargetQuantity ParseTargetQuantity(const std::string& name);
 
 // Quasi-periodic sampling (METHOD.md s.6). Both are the same projection when
 // alias-free; the torus grid costs prod_i M_i with M_i > (phi+1)p whatever
@@ -77,15 +89,19 @@ struct HarmonicBalanceOptions {
   // solution with half the unknowns of a second-order oscillator (with
   // symmetries too: they then act on the condensed unknowns).
   bool condense_definitions = true;
-  // Automatic order selection when > 0: solve at `order`, then raise the
-  // order, warm-started, to where the decay of the highest harmonics says
-  // the truncation falls below `tolerance`, until two successive orders
-  // agree to `tolerance` (max over the relative frequency change and the
-  // coefficient changes, each variable scaled by max(1, its largest
-  // coefficient)). The summary then holds the higher order's solution and,
-  // as its estimate, that difference: the lower order's error, an upper
-  // estimate for the returned one. Not reached by max_order: kNoConvergence.
+  // Automatic order selection when > 0 (METHOD.md s.8): solve at `order`,
+  // estimate the truncation error from the coefficient tail
+  // (EstimateTruncation, rmhb/truncation_estimate.h, calibrated on a lower
+  // order), and raise the order in small steps, warm-started, until the
+  // estimate of `tolerance_quantity` is within `tolerance`. The summary
+  // holds the estimates per quantity. Not reached by max_order:
+  // kNoConvergence. rmhb's studies set 1e-10 unless the user fixes the order.
   double tolerance = 0;
+  TargetQuantity tolerance_quantity = TargetQuantity::kState;
+  // A target the user did not ask for (rmhb's default): not reaching it by
+  // max_order (for the adaptive index set: the reach max |k|_1) leaves the
+  // solve converged, with the estimate and why in the message.
+  bool soft_tolerance = false;
   int max_order = 5000;
   SolverOptions solver;
   // After a converged solve: is it an oscillation of the original equations?
@@ -113,10 +129,20 @@ struct HarmonicBalanceSummary {
   int order = 0;
   SamplingRule rule = SamplingRule::kRhb;
   double seconds = 0;
-  // Order selection (options.tolerance > 0): the orders solved in turn and
-  // the estimated error of the returned solution (-1 when not selected).
+  // Order selection (options.tolerance > 0): the orders solved in turn, the
+  // target, and the estimated errors of the returned solution (-1 when not
+  // selected): of the targeted quantity, of the time-domain solution and of
+  // the unknown frequencies (-1 without any), and whether a lower order
+  // calibrated them (EstimateTruncation).
   std::vector<int> orders_tried;
+  double tolerance = 0;
+  TargetQuantity tolerance_quantity = TargetQuantity::kState;
   double truncation_estimate = -1;
+  double state_estimate = -1, frequency_estimate = -1;
+  bool estimate_calibrated = false;
+  // Symmetries of the equations that the adaptive index set's first solve
+  // found in its solution and imposed from then on (descriptions).
+  std::vector<std::string> symmetries_found;
   // Set after a converged solve (options.check_physical): the algebra
   // converged (solver.status) but the solution is not an oscillation of the
   // original equations; `non_physical` says why (which frequency or

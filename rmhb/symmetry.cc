@@ -1,5 +1,6 @@
 #include "rmhb/symmetry.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace rmhb {
@@ -34,6 +35,14 @@ int HalfTurnSymmetry::EquationSign(const PolynomialSystem& system, int equation,
                                   "to be invariant under the " + name);
     return p->half_wave_sign;
   }
+  const int result = PolynomialSign(system, equation, num_bases);
+  if (result == 0)
+    throw std::invalid_argument("equation " + std::to_string(equation + 1) + " is not invariant under the " + name +
+                                ": its terms transform with different signs");
+  return result;
+}
+
+int HalfTurnSymmetry::PolynomialSign(const PolynomialSystem& system, int equation, int num_bases) const {
   int result = 0;
   for (const auto& [mono, c] : system.equations()[equation].lhs.terms()) {
     int s = 1;
@@ -45,12 +54,109 @@ int HalfTurnSymmetry::EquationSign(const PolynomialSystem& system, int equation,
       s *= Parity(q);
     }
     if (result == 0) result = s;
-    if (s != result)
-      throw std::invalid_argument("equation " + std::to_string(equation + 1) +
-                                  " is not invariant under the " + name +
-                                  ": its terms transform with different signs");
+    if (s != result) return 0;
   }
   return result == 0 ? 1 : result;
+}
+
+namespace {
+std::string Describe(const PolynomialSystem& system, const HalfTurnSymmetry& s) {
+  std::string flipped, turned;
+  for (size_t j = 0; j < s.sign.size(); ++j)
+    if (s.sign[j] < 0) flipped += (flipped.empty() ? "" : ", ") + system.variables()[j].name;
+  for (size_t b = 0; b < s.half_turn.size(); ++b)
+    if (s.half_turn[b]) turned += (turned.empty() ? "theta_" : " + theta_") + std::to_string(b + 1);
+  return (flipped.empty() ? std::string("no sign change") : "(" + flipped + ") -> -(" + flipped + ")") +
+         (turned.empty() ? "" : " with " + turned + " + pi") + " (detected)";
+}
+}  // namespace
+
+unsigned long HalfTurnSymmetry::Mask() const {
+  unsigned long mask = 0;
+  for (size_t b = 0; b < half_turn.size(); ++b) mask |= static_cast<unsigned long>(half_turn[b] != 0) << b;
+  for (size_t j = 0; j < sign.size(); ++j) mask |= static_cast<unsigned long>(sign[j] < 0) << (half_turn.size() + j);
+  return mask;
+}
+
+std::vector<HalfTurnSymmetry> DetectHalfTurnSymmetries(const PolynomialSystem& system, int num_bases) {
+  const int n = system.num_variables();
+  std::vector<HalfTurnSymmetry> found;
+  if (n > 14 || num_bases > 4 || system.HasPointwise()) return found;
+  // The invariant maps form a group (bit masks under xor): find generators,
+  // then list every element but the identity.
+  std::vector<unsigned long> group = {0};
+  const unsigned long total = 1UL << (num_bases + n);
+  for (unsigned long mask = 1; mask < total && group.size() < 256; ++mask) {
+    if (std::find(group.begin(), group.end(), mask) != group.end()) continue;
+    HalfTurnSymmetry s;
+    for (int b = 0; b < num_bases; ++b) s.half_turn.push_back(mask >> b & 1);
+    for (int j = 0; j < n; ++j) s.sign.push_back(mask >> (num_bases + j) & 1 ? -1 : 1);
+    bool invariant = true;
+    for (int i = 0; i < system.num_equations() && invariant; ++i)
+      invariant = s.PolynomialSign(system, i, num_bases) != 0;
+    if (!invariant) continue;
+    const size_t size = group.size();
+    for (size_t g = 0; g < size; ++g) group.push_back(group[g] ^ mask);
+  }
+  std::sort(group.begin(), group.end());
+  for (unsigned long mask : group) {
+    if (mask == 0) continue;
+    HalfTurnSymmetry s;
+    for (int b = 0; b < num_bases; ++b) s.half_turn.push_back(mask >> b & 1);
+    for (int j = 0; j < n; ++j) s.sign.push_back(mask >> (num_bases + j) & 1 ? -1 : 1);
+    s.description = Describe(system, s);
+    found.push_back(std::move(s));
+  }
+  return found;
+}
+
+std::vector<HalfTurnSymmetry> SymmetriesOf(const HarmonicSolution& guess, const std::vector<HalfTurnSymmetry>& candidates,
+                                           const std::vector<HalfTurnSymmetry>& already, double tolerance) {
+  std::vector<HalfTurnSymmetry> held;
+  const Eigen::MatrixXd& c = guess.coefficients();
+  const HarmonicBasis& basis = guess.basis();
+  const double scale = c.size() ? c.cwiseAbs().maxCoeff() : 0.0;
+  if (!(scale > 0)) return held;  // rest has every symmetry: it says nothing of the solution
+  auto size = [&](int j, int k) { return k == 0 ? std::abs(c(j, 0)) : std::hypot(c(j, 2 * k - 1), c(j, 2 * k)); };
+  // The group generated so far (masks under xor): a composition adds nothing.
+  std::vector<unsigned long> group = {0};
+  auto extend = [&](const HalfTurnSymmetry& s) {
+    const size_t n = group.size();
+    for (size_t g = 0; g < n; ++g) group.push_back(group[g] ^ s.Mask());
+  };
+  for (const HalfTurnSymmetry& s : already) extend(s);
+  for (const HalfTurnSymmetry& s : candidates) {
+    if (static_cast<int>(s.sign.size()) != c.rows() || basis.num_bases() != static_cast<int>(s.half_turn.size()))
+      continue;
+    if (std::find(group.begin(), group.end(), s.Mask()) != group.end()) continue;
+    double off = 0;
+    for (int j = 0; j < c.rows(); ++j)
+      for (int k = 0; k < basis.size(); ++k)
+        if (!s.Allows(basis.harmonic(k), s.sign[j])) off = std::max(off, size(j, k));
+    if (off > tolerance * scale) continue;
+    // A guess whose flipped variables are all zero (rest, where cos x = 1 is
+    // not), or without any odd harmonic along a turned base (a constant, one
+    // base excited alone), has such a symmetry trivially: no evidence.
+    bool exercised = true, flips = false, flipped_moves = false;
+    for (int j = 0; j < c.rows(); ++j)
+      if (s.sign[j] < 0) {
+        flips = true;
+        for (int k = 0; k < basis.size() && !flipped_moves; ++k) flipped_moves = size(j, k) > tolerance * scale;
+      }
+    if (flips && !flipped_moves) continue;
+    for (size_t b = 0; b < s.half_turn.size(); ++b) {
+      if (!s.half_turn[b]) continue;
+      bool odd = false;
+      for (int k = 1; k < basis.size() && !odd; ++k)
+        if (basis.harmonic(k)[b] % 2 != 0)
+          for (int j = 0; j < c.rows() && !odd; ++j) odd = size(j, k) > tolerance * scale;
+      exercised = exercised && odd;
+    }
+    if (!exercised) continue;
+    held.push_back(s);
+    extend(s);
+  }
+  return held;
 }
 
 }  // namespace rmhb

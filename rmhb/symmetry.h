@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "rmhb/harmonic_solution.h"
 #include "rmhb/polynomial_system.h"
 
 namespace rmhb {
@@ -43,7 +44,33 @@ struct HalfTurnSymmetry {
   // std::invalid_argument naming the equation when it mixes parities (the
   // system does not have this symmetry) or when the sizes do not fit.
   int EquationSign(const PolynomialSystem& system, int equation, int num_bases) const;
+  // The same for a polynomial equation without the checks: 0 when its
+  // terms mix parities.
+  int PolynomialSign(const PolynomialSystem& system, int equation, int num_bases) const;
+  // The map as bits (half-turns, then flipped variables): composing two maps
+  // is the xor of their masks.
+  unsigned long Mask() const;
 };
+
+// The half-turn symmetries of a polynomial system (every equation keeps one
+// parity): every element of the group they form but the identity (at most
+// 255), e.g. for two coupled pendula (x, y) -> -(x, y) with both angles
+// turned, and x -> -x with the first. Empty for pointwise equations or more
+// than 14 variables (the search is over 2^(bases + variables) candidates).
+// Which of them a solution has, and an independent set of those, is the
+// caller's to decide (ImposeGuessSymmetries).
+std::vector<HalfTurnSymmetry> DetectHalfTurnSymmetries(const PolynomialSystem& system, int num_bases);
+
+// Those of `candidates` that `guess` has -- its harmonics of the other
+// parity at most `tolerance` times its largest coefficient, some flipped variable
+// not zero and some odd harmonic along every turned base (a constant or a
+// guess at rest has every symmetry trivially) -- leaving out compositions of those chosen and of `already`:
+// an independent set to impose (HarmonicBalanceProblem::symmetries).
+// Imposing them is exact: the equations are equivariant, so Newton's
+// iterates from a symmetric guess stay symmetric.
+std::vector<HalfTurnSymmetry> SymmetriesOf(const HarmonicSolution& guess, const std::vector<HalfTurnSymmetry>& candidates,
+                                           const std::vector<HalfTurnSymmetry>& already = {},
+                                           double tolerance = 1e-14);
 
 }  // namespace rmhb
 

@@ -71,7 +71,9 @@ int ExitCode(AnalyzeStatus status) {
 
 int RunAnalyze(const AnalyzeArgs& a) {
   const auto start = Clock::now();
-  const PreparedSolve prepared = Prepare(a.settings);
+  ModelSettings settings = a.settings;
+  settings.solve.default_tol = SolveSettings::kDefaultTolerance;  // unless --order fixes it
+  const PreparedSolve prepared = Prepare(settings);
   const Model& source = prepared.model;
   if (!a.plot.empty()) plot::CheckPlotRequest(a.plot);
   AnalyzeOptions options;

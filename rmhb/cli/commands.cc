@@ -157,7 +157,9 @@ int RunSolve(const SolveArgs& a) {
   if (!a.plot.empty()) plot::CheckPlotRequest(a.plot);
   if (!a.csv.empty() && a.eval.empty())
     throw std::invalid_argument("--csv needs --eval t0:dt:t1 (or --continue, whose branch it writes)");
-  const PreparedSolve prepared = Prepare(a.settings);
+  ModelSettings settings = a.settings;
+  settings.solve.default_tol = SolveSettings::kDefaultTolerance;  // unless --order fixes it
+  const PreparedSolve prepared = Prepare(settings);
   SolveOptions options;
   options.harmonic_balance = prepared.options;
   options.auto_start = a.start == "auto";

@@ -79,10 +79,15 @@ void AddSolveSettings(CLI::App* app, ModelSettings* m) {
                   "Converged when max|F| <= this (default 1e-15; finite and > 0); with "
                   "--scaling equilibrate on the scaled residual, relative to the scaled unknowns");
   app->add_option("--tol", a->tol,
-                  "Choose the order automatically: from --order (or the model's default), "
-                  "raise it warm-started until two successive orders agree to TOL (relative "
-                  "frequency, scaled coefficients); reports the orders tried and the estimate. "
+                  "Accuracy target: from --order (or the model's default), raise the order in small "
+                  "steps, warm-started, until the estimated truncation error (coefficient tail, "
+                  "calibrated on a lower order) is within TOL; reports the orders tried and the "
+                  "estimates. solve and analyze aim at 1e-10 by default unless --order is given. "
                   "Not reached by --max-order: exit 3");
+  app->add_option("--tol-quantity", a->tol_quantity,
+                  "What --tol bounds: state (the time-domain solution, relative per variable; "
+                  "default) or frequency (the unknown base frequencies, relative)")
+      ->check(CLI::IsMember({"state", "frequency"}));
   app->add_option("--max-jacobian-gib", a->max_jacobian_gib,
                   "Refuse (exit 2) an order whose dense Jacobian needs more than this many GiB; "
                   "--tol stops at the largest order under it (default 4)");

@@ -151,6 +151,7 @@ Model LoadModel(const std::string& path, const std::map<std::string, double>& ov
   p.overrides = overrides;
   p.reload = [path, route](const model::ParameterValues& values) { return LoadModel(path, values, route); };
   ChooseEquations(recast, route, &p);
+  DetectInvariances(&p);
   return p;
 }
 
@@ -200,23 +201,15 @@ HarmonicSolution GuessAtOrder(const Model& model, int order) {
   return guess.WithFrequencies(w);
 }
 
+void DetectInvariances(Model* model) {
+  if (model->invariances.empty() && model->problem.frequencies.size() > 1)
+    model->invariances = DetectHalfTurnSymmetries(model->problem.system, static_cast<int>(model->problem.frequencies.size()));
+}
+
 int ImposeGuessSymmetries(const HarmonicSolution& guess, Model* model) {
-  int imposed = 0;
-  const Eigen::MatrixXd& c = guess.coefficients();
-  const double scale = c.size() ? c.cwiseAbs().maxCoeff() : 0.0;
-  for (const HalfTurnSymmetry& s : model->invariances) {
-    if (static_cast<int>(s.sign.size()) != c.rows() || guess.basis().num_bases() != static_cast<int>(s.half_turn.size()))
-      continue;
-    double off = 0;
-    for (int j = 0; j < c.rows(); ++j)
-      for (int k = 0; k < guess.basis().size(); ++k)
-        if (!s.Allows(guess.basis().harmonic(k), s.sign[j]))
-          off = std::max(off, k == 0 ? std::abs(c(j, 0)) : std::hypot(c(j, 2 * k - 1), c(j, 2 * k)));
-    if (off > 1e-14 * scale) continue;
-    model->problem.symmetries.push_back(s);
-    ++imposed;
-  }
-  return imposed;
+  const std::vector<HalfTurnSymmetry> held = SymmetriesOf(guess, model->invariances, model->problem.symmetries);
+  model->problem.symmetries.insert(model->problem.symmetries.end(), held.begin(), held.end());
+  return static_cast<int>(held.size());
 }
 
 const char* OriginalIntegrator(const Model& source) {

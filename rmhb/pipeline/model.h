@@ -39,9 +39,6 @@ struct Model {
   HarmonicBalanceProblem problem;
   int default_order = 20;
   std::function<HarmonicSolution(int order)> guess;
-  // The model's own index set for an order, when the default diamond or
-  // box does not fit its spectrum (e.g. the asymmetric pendulum's beat).
-  std::function<HarmonicBasis(int order)> basis_for_order;
   // The original equations with the base frequencies bound to `w` (forcing
   // terms need the solved values), and the state a solution predicts.
   std::function<integrators::OdeSystem(const std::vector<double>& w)> original;
@@ -130,9 +127,16 @@ Model LoadModel(const std::string& path, const std::map<std::string, double>& ov
 // (which a caller may have changed since the model was loaded).
 HarmonicSolution GuessAtOrder(const Model& model, int order);
 
+// Sets model->invariances, when empty, to the half-turn symmetries of its
+// equations for two or more bases (DetectHalfTurnSymmetries): LoadModel and
+// the built-in examples call it, so that a model file and an example with
+// the same equations impose the same symmetries.
+void DetectInvariances(Model* model);
+
 // Imposes on model->problem each of model->invariances that `guess` has
 // (its harmonics of the other parity at most 1e-14 of its largest
-// coefficient) and returns how many. Exact, not an approximation: the
+// coefficient; not a guess at rest) and is not a composition of those
+// already imposed, and returns how many. Exact, not an approximation: the
 // equations are equivariant, so Newton's iterates from a symmetric guess
 // stay symmetric and the solve ends where the full solve would, with half
 // the unknowns (an eighth of the factorisation) per symmetry.

@@ -13,6 +13,9 @@ std::string SolveSettings::IsValid() const {
   if ((samples_given || samples != -1) && samples < 1)
     return "--samples must be >= 1 (got " + std::to_string(samples) + ")";
   if (!(tol >= 0) || !std::isfinite(tol)) return "--tol must be a finite number >= 0 (got " + std::to_string(tol) + ")";
+  if (!(default_tol >= 0) || !std::isfinite(default_tol)) return "default_tol must be a finite number >= 0";
+  if (tol_quantity != "state" && tol_quantity != "frequency")
+    return "--tol-quantity must be state or frequency (got '" + tol_quantity + "')";
   if (!(max_jacobian_gib > 0) || !std::isfinite(max_jacobian_gib)) return "--max-jacobian-gib must be finite and > 0";
   if (sampling != "torus" && sampling != "gcd") return "--sampling must be torus or gcd (got '" + sampling + "')";
   if (shape != "diamond" && shape != "box") return "--basis must be diamond or box (got '" + shape + "')";
@@ -34,8 +37,17 @@ PreparedSolve PrepareSolve(Model model, const SolveSettings& a) {
   options.rule = ParseSamplingRule(a.method);
   if (a.samples > 0) options.samples.assign(bases, a.samples);
   options.allow_aliasing = a.allow_aliasing;
-  options.tolerance = a.tol;
-  options.max_order = std::max(a.max_order, options.order);
+  options.tolerance = a.tol > 0 ? a.tol
+                      : !a.order_given && !a.samples_given && options.rule == SamplingRule::kRhb ? a.default_tol
+                                                                                                 : 0;
+  options.tolerance_quantity = ParseTargetQuantity(a.tol_quantity);
+  // The default target is a wish, not an order: bounded at 4x the start (at
+  // least 64), and not reaching it is reported, not a failure (a non-smooth
+  // model's algebraic decay would otherwise climb to --max-order).
+  const bool default_target = !(a.tol > 0) && options.tolerance > 0;
+  options.soft_tolerance = default_target;
+  options.max_order = std::max(default_target ? std::min(a.max_order, std::max(4 * options.order, 64)) : a.max_order,
+                               options.order);
   options.solver.method = ParseSolverMethod(a.solver);
   options.solver.max_iterations = a.max_iterations;
   options.solver.scaling = ParseScaling(a.scaling);
@@ -44,8 +56,9 @@ PreparedSolve PrepareSolve(Model model, const SolveSettings& a) {
   options.shape = a.shape == "box" ? BasisShape::kBox : BasisShape::kDiamond;
   options.quasi_periodic_sampling =
       a.sampling == "gcd" ? QuasiPeriodicSampling::kGcd : QuasiPeriodicSampling::kTorus;
-  // An explicit shape overrides the model's own index set.
-  if (model.basis_for_order && !a.shape_given) options.basis_for_order = model.basis_for_order;
+  // Without an explicit shape and with a target, several bases get the
+  // adaptive index set (METHOD.md s.8).
+  if (!a.shape_given && bases > 1 && options.tolerance > 0) options.shape = BasisShape::kAdaptive;
   options.max_jacobian_bytes = a.max_jacobian_gib * double(1L << 30);
   CheckJacobianSize(problem, options);  // before a guess at that order is built
   HarmonicSolution guess = GuessAtOrder(model, options.order);

@@ -42,6 +42,13 @@ struct SolveSettings {
   std::string shape = "diamond";   // diamond, box (BasisShape)
   bool shape_given = false;        // an explicit shape overrides the model's own index set
   double tol = 0;  // > 0: choose the order automatically (HarmonicBalanceOptions::tolerance)
+  // The accuracy target applied when neither --tol nor --order (nor
+  // --samples) is given and the method is rhb: solve and analyze set it
+  // (kDefaultTolerance); the studies that sweep many solves at one order
+  // (continuation, sweep, montecarlo, convergence) leave it 0.
+  double default_tol = 0;
+  static constexpr double kDefaultTolerance = 1e-10;
+  std::string tol_quantity = "state";  // state, frequency (TargetQuantity)
   int max_order = 5000;  // the order selection's limit
   double max_jacobian_gib = 4;  // HarmonicBalanceOptions::max_jacobian_bytes in GiB
   // recast, original, auto (EquationsRoute, rmhb/pipeline/model.h): applied

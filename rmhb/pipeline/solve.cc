@@ -45,6 +45,8 @@ std::string Details(const SolveSummary& s) {
   else
     out += Format("recast (phi = %d):\n", hb.degree) + s.recast;
   for (const std::string& symmetry : s.symmetries) out += "symmetry     " + symmetry + " (the guess has it)\n";
+  for (const std::string& symmetry : hb.symmetries_found)
+    out += "symmetry     " + symmetry + " (the first solution has it)\n";
   out += "status       " + s.status_word() + (hb.solver.message.empty() ? "" : ": ") + hb.solver.message + "\n";
   out += Format("residual     %.3e after %d iterations (%s)\n", hb.solver.final_residual, hb.solver.iterations,
                 ToString(hb.solver.method));
@@ -57,10 +59,13 @@ std::string Details(const SolveSummary& s) {
     out += "start        " + s.start_route + (s.start_note.empty() ? "" : "; ") + s.start_note + "\n";
   if (s.converged()) out += "physical     " + PhysicalLine(hb) + "\n";
   if (hb.truncation_estimate >= 0) {
-    out += Format("order        %d %s --tol %g (orders", hb.order, s.converged() ? "chosen for" : "reached, short of",
-                  s.options.tolerance);
+    out += Format("order        %d %s target %g on the %s (orders", hb.order,
+                  s.converged() && hb.truncation_estimate <= hb.tolerance ? "chosen for" : "reached, short of",
+                  hb.tolerance, ToString(hb.tolerance_quantity));
     for (int o : hb.orders_tried) out += Format(" %d", o);
-    out += Format("), estimated truncation error %.3e\n", hb.truncation_estimate);
+    out += Format("), estimated error: state %.1e", hb.state_estimate);
+    if (hb.frequency_estimate >= 0) out += Format(", frequency %.1e", hb.frequency_estimate);
+    out += hb.estimate_calibrated ? " (calibrated on a lower order)\n" : " (coefficient tail)\n";
   }
   if (hb.solver.reciprocal_condition > 0) {
     out += Format("condition    1/cond(J) ~ %.2e (last factorised Jacobian)", hb.solver.reciprocal_condition);
@@ -140,14 +145,23 @@ json SolveSummary::ToJson() const {
   if (!start_note.empty()) out["start_note"] = start_note;
   out["equations"] = equations;
   if (!equations_note.empty()) out["equations_note"] = equations_note;
-  if (!symmetries.empty()) out["symmetries"] = symmetries;
+  if (!symmetries.empty() || !hb.symmetries_found.empty()) {
+    std::vector<std::string> all = symmetries;
+    all.insert(all.end(), hb.symmetries_found.begin(), hb.symmetries_found.end());
+    out["symmetries"] = all;
+  }
   out["method"] = ToString(options.rule);
   out["solver"] = ToString(hb.solver.method);
   out["order"] = hb.order;
   if (hb.truncation_estimate >= 0)
-    out["order_selection"] = {{"tolerance", options.tolerance},
+    out["order_selection"] = {{"tolerance", hb.tolerance},
+                              {"quantity", ToString(hb.tolerance_quantity)},
                               {"orders", hb.orders_tried},
-                              {"estimate", JsonNumber(hb.truncation_estimate)}};
+                              {"estimate", JsonNumber(hb.truncation_estimate)},
+                              {"state_estimate", JsonNumber(hb.state_estimate)},
+                              {"frequency_estimate", hb.frequency_estimate >= 0 ? JsonNumber(hb.frequency_estimate)
+                                                                                : json(nullptr)},
+                              {"calibrated", hb.estimate_calibrated}};
   // null when not computed (the solve failed before a Jacobian was factorised).
   out["reciprocal_condition"] =
       hb.solver.reciprocal_condition > 0 ? JsonNumber(hb.solver.reciprocal_condition) : json(nullptr);

@@ -209,7 +209,6 @@ Model LockedModel(const Model& model, const Resonance& lock) {
     };
   const int order = model.default_order;
   out.guess = nullptr;
-  out.basis_for_order = nullptr;
   out.default_order = order * std::max(lock.p, lock.q);
   out.reload = nullptr;
   out.reference = {};

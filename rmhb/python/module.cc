@@ -181,7 +181,8 @@ class Model {
                  const std::string& solver, const std::optional<std::vector<double>>& frequencies,
                  const std::string& start) const {
     if (start != "auto" && start != "guess") throw std::invalid_argument("start must be auto or guess, got '" + start + "'");
-    const SolveSettings settings = Settings(order, p, tol, method, solver, frequencies);
+    SolveSettings settings = Settings(order, p, tol, method, solver, frequencies);
+    settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve: unless order or p is given
     if (settings.method != "rhb" && settings.method != "hdhb" && settings.method != "aft")
       throw std::invalid_argument("method must be rhb, hdhb or aft, got '" + method + "'");
     py::gil_scoped_release release;
@@ -194,7 +195,8 @@ class Model {
   }
 
   AnalyzeSummary Analyze(std::optional<int> order, double t_end, double transient, int validate_periods) const {
-    const SolveSettings settings = Settings(order, {}, {}, "rhb", "auto", {});
+    SolveSettings settings = Settings(order, {}, {}, "rhb", "auto", {});
+    settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb analyze
     py::gil_scoped_release release;
     const PreparedSolve prepared = PrepareSolve(*model_, settings);
     AnalyzeOptions options;

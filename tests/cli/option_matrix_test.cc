@@ -48,7 +48,7 @@ const std::map<std::string, std::string>& Samples() {
   static const std::map<std::string, std::string> samples = {
       {"--set", "F=0.8"}, {"--order", "20"}, {"--frequencies", "1.5"}, {"--sampling", "gcd"}, {"--basis", "box"},
       {"--samples", "64"}, {"--method", "hdhb"}, {"--solver", "lm"}, {"--scaling", "none"},
-      {"--max-iterations", "50"}, {"--allow-aliasing", ""}, {"--residual-tol", "1e-12"}, {"--tol", "1e-8"},
+      {"--max-iterations", "50"}, {"--allow-aliasing", ""}, {"--residual-tol", "1e-12"}, {"--tol", "1e-8"}, {"--tol-quantity", "frequency"},
       {"--max-jacobian-gib", "2"}, {"--max-order", "64"}, {"--equations", "auto"}, {"--eval", "0:0.5:2"}, {"--csv", "{dir}/out.csv"},
       {"--validate", ""}, {"--stability", ""}, {"--validate-periods", "2"}, {"--plot", "{dir}/plot.png"},
       {"--json", ""}, {"--quiet", ""}, {"--continue", "w=1:1.2"}, {"--steps", "5"}, {"--max-step", "0.1"},

@@ -46,9 +46,19 @@ TEST(CliTol, ReciprocalConditionIsReportedByTheRegularisedSolversToo) {
 TEST(CliTol, TextReportNamesTheChosenOrder) {
   const CliRun run = Rmhb("solve pendulum --set theta0=3 --tol 1e-10");
   ASSERT_EQ(run.code, 0) << run.out;
-  EXPECT_NE(run.out.find("chosen for --tol 1e-10"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("estimated truncation error"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("chosen for target 1e-10 on the state"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("estimated error: state"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("1/cond(J)"), std::string::npos) << run.out;
+}
+
+TEST(CliTol, TheTargetIsTheDefaultUnlessTheOrderIsFixed) {
+  const auto fixed = nlohmann::json::parse(Rmhb("solve duffing --order 20 --json", false).out);
+  EXPECT_FALSE(fixed.contains("order_selection"));
+  const auto chosen = nlohmann::json::parse(Rmhb("solve duffing --json", false).out);
+  EXPECT_EQ(chosen["order_selection"]["tolerance"], 1e-10);
+  EXPECT_EQ(chosen["order_selection"]["quantity"], "state");
+  EXPECT_TRUE(chosen["order_selection"]["calibrated"].get<bool>());
+  EXPECT_LE(chosen["order_selection"]["state_estimate"].get<double>(), 1e-10);
 }
 
 TEST(CliTol, NegativeOrNanToleranceIsBadInput) {

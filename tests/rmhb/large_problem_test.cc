@@ -29,7 +29,6 @@ Case MakeCase(const std::string& example, int order, bool condense, bool odd_sym
   const int d = static_cast<int>(c.e.problem.frequencies.size());
   HarmonicBalanceOptions o;
   o.order = order;
-  o.basis_for_order = c.e.basis_for_order;
   c.basis = MakeBasis(d, o);
   const std::vector<int> m = SamplesForRule(c.e.problem.system, c.basis, SamplingRule::kRhb);
   const Sampling sampling = d == 1 ? Sampling::Uniform(m[0]) : Sampling::Torus(m);

@@ -12,24 +12,38 @@
 #include "integrators/cvode_integrator.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/harmonic_balance.h"
+#include "rmhb/symmetry.h"
 
 namespace rmhb {
 namespace {
 
-HarmonicBalanceSummary Solve(const examples::ExampleSetup& e, int order) {
+// The automatic path every model takes (rmhb solve's defaults, METHOD.md
+// s.8): the symmetries of the equations that the guess has, imposed; the
+// adaptive index set from the diamond of the default order to `tolerance`.
+HarmonicBalanceProblem WithSymmetries(const examples::ExampleSetup& e) {
+  HarmonicBalanceProblem problem = e.problem;
+  problem.symmetries =
+      SymmetriesOf(e.guess, DetectHalfTurnSymmetries(problem.system, static_cast<int>(problem.frequencies.size())));
+  return problem;
+}
+
+HarmonicBalanceSummary Solve(const examples::ExampleSetup& e, double tolerance = 1e-10) {
   HarmonicBalanceOptions o;
-  o.order = order;
-  o.basis_for_order = e.basis_for_order;
-  return SolveHarmonicBalance(e.problem, e.guess, o);
+  o.order = e.default_order;
+  o.shape = BasisShape::kAdaptive;
+  o.tolerance = tolerance;
+  return SolveHarmonicBalance(WithSymmetries(e), e.guess, o);
 }
 
 // ---- 1. Asymmetric pendulum, both base frequencies unknown -----------------
 
 // Paper: p = 5 diamond with FFT-fixed w = (0.9857, 0.9935): error 9.21e-3 in x,
-// 3.9e-7 in y. Here the frequencies are solved for on the beat basis.
+// 3.9e-7 in y. Here the frequencies are solved for on the adaptive index set,
+// with the two reflections detected on the equations.
 TEST(AsymmetricPendulum, MatchesCvodeOverTwoThousandTimeUnits) {
   const examples::ExampleSetup e = examples::BuildExample("asym-pendulum");
-  const HarmonicBalanceSummary s = Solve(e, 5);
+  const HarmonicBalanceSummary s = Solve(e);
+  EXPECT_EQ(WithSymmetries(e).symmetries.size(), 2u);
   ASSERT_TRUE(s.converged()) << s.FullReport();
   const HarmonicSolution& sol = *s.solution;
   // w1 ~ 0.985125, w2 ~ 0.992829 (the FFT estimates are off in the 4th digit).
@@ -49,8 +63,8 @@ TEST(AsymmetricPendulum, MatchesCvodeOverTwoThousandTimeUnits) {
     error_x = std::max(error_x, std::abs(sol.Value(0, times[i]) - r.trajectory.states(i, 0)));
     error_y = std::max(error_y, std::abs(sol.Value(1, times[i]) - r.trajectory.states(i, 1)));
   }
-  EXPECT_LT(error_x, 1e-8);  // measured 2.8e-9
-  EXPECT_LT(error_y, 1e-8);  // measured 2.4e-9
+  EXPECT_LT(error_x, 1e-8);
+  EXPECT_LT(error_y, 1e-8);
 }
 
 // Four conditions, two unknown frequencies: the balances alone lose rank by
@@ -60,7 +74,6 @@ TEST(AsymmetricPendulum, FrequenciesAreDetermined) {
   const examples::ExampleSetup e = examples::BuildExample("asym-pendulum");
   HarmonicBalanceOptions o;
   o.order = 3;
-  o.basis_for_order = e.basis_for_order;
   o.solver.estimate_condition = true;
   const HarmonicBalanceSummary s = SolveHarmonicBalance(e.problem, e.guess, o);
   ASSERT_TRUE(s.converged()) << s.FullReport();
@@ -69,19 +82,21 @@ TEST(AsymmetricPendulum, FrequenciesAreDetermined) {
   EXPECT_GT(s.solver.condition_estimate, 1.0);
 }
 
-// Error falls geometrically with the order of the beat basis (a rate, not a
-// point), checked cheaply on the frequencies against the order-6 solve.
-TEST(AsymmetricPendulum, ErrorFallsGeometricallyWithOrder) {
+// The error follows the target: each solve within its tolerance (checked
+// on the frequencies against a solve at 1e-12), the index set growing.
+TEST(AsymmetricPendulum, ErrorFollowsTheTarget) {
   const examples::ExampleSetup e = examples::BuildExample("asym-pendulum");
-  const HarmonicBalanceSummary best = Solve(e, 6);
+  const HarmonicBalanceSummary best = Solve(e, 1e-12);
   ASSERT_TRUE(best.converged());
-  double previous = 1;
-  for (int p : {2, 3, 4}) {
-    const HarmonicBalanceSummary s = Solve(e, p);
-    ASSERT_TRUE(s.converged()) << "p = " << p << "\n" << s.FullReport();
-    const double err = std::abs(s.solution->frequencies()[1] - best.solution->frequencies()[1]);
-    EXPECT_LT(err, previous / 20) << "p = " << p;
-    previous = err;
+  int previous = 0;
+  for (double tolerance : {1e-4, 1e-6, 1e-8}) {
+    const HarmonicBalanceSummary s = Solve(e, tolerance);
+    ASSERT_TRUE(s.converged()) << "tolerance " << tolerance << "\n" << s.FullReport();
+    for (int b = 0; b < 2; ++b)
+      EXPECT_LT(std::abs(s.solution->frequencies()[b] - best.solution->frequencies()[b]), tolerance);
+    EXPECT_LE(s.truncation_estimate, tolerance);
+    EXPECT_GT(s.solution->basis().size(), previous);
+    previous = s.solution->basis().size();
   }
 }
 
@@ -89,7 +104,7 @@ TEST(AsymmetricPendulum, ErrorFallsGeometricallyWithOrder) {
 
 TEST(ForcedVanDerPol, MatchesCvodeOverFiveHundredTimeUnits) {
   const examples::ExampleSetup e = examples::BuildExample("forced-vanderpol");
-  const HarmonicBalanceSummary s = Solve(e, e.default_order);
+  const HarmonicBalanceSummary s = Solve(e);
   ASSERT_TRUE(s.converged()) << s.FullReport();
   const HarmonicSolution& sol = *s.solution;
   EXPECT_EQ(sol.frequencies()[0], 2.3);
@@ -108,20 +123,20 @@ TEST(ForcedVanDerPol, MatchesCvodeOverFiveHundredTimeUnits) {
   EXPECT_NEAR(sol.Derivative(0, 0.0), 0.0, 1e-12);  // the phase condition
 }
 
-// The weighted diamond the example picks and the paper's diamond are the same
-// torus where both are accurate.
-TEST(ForcedVanDerPol, WeightedAndPlainDiamondAgree) {
+// The adaptive index set and the paper's diamond are the same torus where
+// both are accurate.
+TEST(ForcedVanDerPol, AdaptiveSetAndPlainDiamondAgree) {
   const examples::ExampleSetup e = examples::BuildExample("forced-vanderpol");
-  const HarmonicBalanceSummary weighted = Solve(e, 21);
+  const HarmonicBalanceSummary adaptive = Solve(e);
   HarmonicBalanceOptions o;
   o.order = 15;
   o.shape = BasisShape::kDiamond;
   const HarmonicBalanceSummary diamond = SolveHarmonicBalance(e.problem, e.guess, o);
-  ASSERT_TRUE(weighted.converged() && diamond.converged());
-  EXPECT_NEAR(weighted.solution->frequencies()[1], diamond.solution->frequencies()[1], 1e-12);
+  ASSERT_TRUE(adaptive.converged() && diamond.converged());
+  EXPECT_NEAR(adaptive.solution->frequencies()[1], diamond.solution->frequencies()[1], 1e-12);
   double worst = 0;
   for (int i = 0; i <= 400; ++i)
-    worst = std::max(worst, std::abs(weighted.solution->Value(0, 0.25 * i) -
+    worst = std::max(worst, std::abs(adaptive.solution->Value(0, 0.25 * i) -
                                      diamond.solution->Value(0, 0.25 * i)));
   EXPECT_LT(worst, 3e-8);  // the diamond's truncation error, ~1e-8
 }
@@ -259,29 +274,50 @@ TEST(HarmonicBasis, WeightedDiamondStretchesAlongLightBases) {
 // without it the solution is the same, with half the unknowns per symmetry.
 TEST(HalfTurnSymmetry, ReducedAndFullSolvesAgree) {
   const examples::ExampleSetup e = examples::BuildExample("asym-pendulum");
-  examples::ExampleSetup full = e;
-  full.problem.symmetries.clear();
+  const HarmonicBalanceProblem reduced = WithSymmetries(e);
+  ASSERT_EQ(reduced.symmetries.size(), 2u);
   HarmonicBalanceOptions o;
   o.order = 3;
-  o.basis_for_order = e.basis_for_order;
   o.condense_definitions = false;  // count the unknowns of the same layout
-  const HarmonicBalanceSummary reduced_solve = SolveHarmonicBalance(e.problem, e.guess, o);
-  const HarmonicBalanceSummary full_solve = SolveHarmonicBalance(full.problem, full.guess, o);
+  const HarmonicBalanceSummary reduced_solve = SolveHarmonicBalance(reduced, e.guess, o);
+  const HarmonicBalanceSummary full_solve = SolveHarmonicBalance(e.problem, e.guess, o);
   ASSERT_TRUE(reduced_solve.converged() && full_solve.converged());
-  // The beat basis has odd fast indices only, so z -> -z removes just the
-  // constants; x -> -x then halves the rest. Two frequencies either way.
-  const int variables = 4;
-  EXPECT_EQ(2 * (reduced_solve.solver.num_unknowns - 2),
-            full_solve.solver.num_unknowns - 2 - variables);
+  // Each variable keeps one parity class of four (m, n mod 2): about a
+  // quarter of the coefficients. Two frequencies either way.
+  EXPECT_LT(3 * (reduced_solve.solver.num_unknowns - 2), full_solve.solver.num_unknowns - 2);
   EXPECT_LT(MaxDifference(reduced_solve, full_solve), 1e-12);
   EXPECT_NEAR(reduced_solve.solution->frequencies()[0], full_solve.solution->frequencies()[0], 1e-13);
 }
 
+// Detected on the equations: the two reflections of the coupled pendulum
+// (with every composition, the identity left out), and of a model forced by
+// cos(theta_1) only the half-wave maps that turn theta_1.
+TEST(HalfTurnSymmetry, DetectedOnTheEquations) {
+  const examples::ExampleSetup e = examples::BuildExample("asym-pendulum");
+  const std::vector<HalfTurnSymmetry> all = DetectHalfTurnSymmetries(e.problem.system, 2);
+  // (h1, h2) free (autonomous), z -> -z, x -> -x alone: a group of 16.
+  EXPECT_EQ(all.size(), 15u);
+  EXPECT_EQ(SymmetriesOf(e.guess, all).size(), 2u);
+  const examples::ExampleSetup f = examples::BuildExample("forced-vanderpol");
+  for (const HalfTurnSymmetry& s : DetectHalfTurnSymmetries(f.problem.system, 2))
+    if (s.sign[0] < 0) {
+      EXPECT_EQ(s.half_turn[0], 1) << s.description;
+    }
+  EXPECT_EQ(SymmetriesOf(f.guess, DetectHalfTurnSymmetries(f.problem.system, 2)).size(), 1u);
+  // A guess at rest has every symmetry trivially: none is imposed.
+  EXPECT_TRUE(SymmetriesOf(HarmonicSolution(e.guess.basis(), e.guess.frequencies(),
+                                            Eigen::MatrixXd::Zero(4, e.guess.basis().num_coefficients()),
+                                            e.problem.system.variables()),
+                           all)
+                  .empty());
+}
+
 TEST(HalfTurnSymmetry, JacobianOfTheReducedProblemMatchesFiniteDifferences) {
   const examples::ExampleSetup e = examples::BuildExample("asym-pendulum");
-  const HarmonicBasis basis = e.basis_for_order(2);
+  const HarmonicBasis basis = HarmonicBasis::Diamond(2, 3);
   const Sampling sampling = Sampling::Torus(SamplesForRule(e.problem.system, basis, SamplingRule::kRhb));
-  CollocationResidual r(e.problem, basis, sampling);
+  const HarmonicBalanceProblem problem = WithSymmetries(e);  // the residual keeps a reference
+  CollocationResidual r(problem, basis, sampling);
   EXPECT_LT(r.num_unknowns(), r.num_full_unknowns());
   const HarmonicSolution g = e.guess.OnBasis(basis);
   Eigen::VectorXd x = r.Pack(g.coefficients(), g.frequencies());

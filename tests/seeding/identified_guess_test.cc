@@ -16,6 +16,7 @@
 #include "frequency_id/frequency_identification.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/harmonic_balance.h"
+#include "rmhb/symmetry.h"
 
 namespace rmhb::seeding {
 namespace {
@@ -23,10 +24,29 @@ namespace {
 using examples::BuildExample;
 using examples::ExampleSetup;
 
-HarmonicBalanceOptions Options(const ExampleSetup& e, int order) {
+// The example's problem with the symmetries of its equations that its
+// guess has, solved on the adaptive index set to 1e-10 (rmhb solve's
+// defaults, METHOD.md s.8).
+HarmonicBalanceProblem Symmetric(const ExampleSetup& e) {
+  HarmonicBalanceProblem problem = e.problem;
+  problem.symmetries =
+      SymmetriesOf(e.guess, DetectHalfTurnSymmetries(problem.system, static_cast<int>(problem.frequencies.size())));
+  return problem;
+}
+
+HarmonicBalanceOptions Adaptive(const ExampleSetup& e) {
   HarmonicBalanceOptions o;
-  o.order = order;
-  o.basis_for_order = e.basis_for_order;
+  o.order = e.default_order;
+  o.shape = BasisShape::kAdaptive;
+  o.tolerance = 1e-10;
+  return o;
+}
+
+// A fixed index set (the one the adaptive solve chose).
+HarmonicBalanceOptions On(const HarmonicBasis& basis) {
+  HarmonicBalanceOptions o;
+  o.order = basis.order();
+  o.basis_for_order = [basis](int) { return basis; };
   return o;
 }
 
@@ -59,25 +79,26 @@ StateToVariables Variables(const ExampleSetup& e) {
 
 TEST(IdentifiedGuess, AsymmetricPendulumBothBasesUnknown) {
   const ExampleSetup e = BuildExample("asym-pendulum");
-  const HarmonicBalanceSummary reference = SolveHarmonicBalance(e.problem, e.guess, Options(e, 5));
+  const HarmonicBalanceSummary reference = SolveHarmonicBalance(Symmetric(e), e.guess, Adaptive(e));
   ASSERT_TRUE(reference.converged());
   const std::vector<double>& w = reference.solution->frequencies();
+  const HarmonicBasis& basis = reference.solution->basis();
 
   // The paper's FFT estimates: off in the 4th digit, they only size the
   // record and pick the coordinates (the identification finds (beat, w1)).
-  HarmonicBalanceProblem problem = e.problem;
+  HarmonicBalanceProblem problem = Symmetric(e);
   problem.frequencies = {0.9857, 0.9935};
   // Conservative and started on the conditions: no transient.
   const frequency_id::IdentificationSummary id = Identify(e, problem, 12, 0.0);
   ASSERT_TRUE(id.IsUsable()) << id.FullReport();
-  const IdentifiedGuess seed = GuessFromIdentification(id, problem, e.basis_for_order(5), Variables(e));
+  const IdentifiedGuess seed = GuessFromIdentification(id, problem, basis, Variables(e));
   EXPECT_NEAR(seed.frequencies[0], w[0], 1e-9);  // measured 1e-11
   EXPECT_NEAR(seed.frequencies[1], w[1], 1e-9);  // measured 2e-12
   EXPECT_GT(seed.energy_on_basis, 0.999999);
   EXPECT_LT(seed.condition_residual, 1e-4);       // the basis's truncation, ~1e-6
 
   problem.frequencies = seed.frequencies;
-  const HarmonicBalanceSummary s = SolveHarmonicBalance(problem, seed.guess, Options(e, 5));
+  const HarmonicBalanceSummary s = SolveHarmonicBalance(problem, seed.guess, On(basis));
   ASSERT_TRUE(s.converged()) << s.FullReport();
   EXPECT_LE(s.solver.iterations, 4);
   EXPECT_NEAR(s.solution->frequencies()[0], w[0], 1e-12);
@@ -88,23 +109,24 @@ TEST(IdentifiedGuess, AsymmetricPendulumBothBasesUnknown) {
 
 TEST(IdentifiedGuess, ForcedVanDerPolLimitCycleFrequencyUnknown) {
   const ExampleSetup e = BuildExample("forced-vanderpol");
-  const HarmonicBalanceSummary reference = SolveHarmonicBalance(e.problem, e.guess, Options(e, 21));
+  const HarmonicBalanceSummary reference = SolveHarmonicBalance(Symmetric(e), e.guess, Adaptive(e));
   ASSERT_TRUE(reference.converged());
   const std::vector<double>& w = reference.solution->frequencies();
+  const HarmonicBasis& basis = reference.solution->basis();
 
-  HarmonicBalanceProblem problem = e.problem;
+  HarmonicBalanceProblem problem = Symmetric(e);
   problem.frequencies[1] = 1.0;  // the free oscillator's linear frequency, not the simulated one
   // The torus attracts at rate ~eps/2 = 0.1: 300 time units leave e^-30.
   const frequency_id::IdentificationSummary id = Identify(e, problem, 12, 300.0);
   ASSERT_TRUE(id.IsUsable()) << id.FullReport();
-  const IdentifiedGuess seed = GuessFromIdentification(id, problem, e.basis_for_order(21), Variables(e));
+  const IdentifiedGuess seed = GuessFromIdentification(id, problem, basis, Variables(e));
   EXPECT_EQ(seed.frequencies[0], 2.3);
   EXPECT_NEAR(seed.frequencies[1], w[1], 1e-9);  // measured 1e-13
   EXPECT_EQ(seed.phase_shift[0], 0.0);           // the forcing's angle is not free
   EXPECT_LT(seed.condition_residual, 1e-10);     // x'(0) = 0 met by turning theta_2
 
   problem.frequencies = seed.frequencies;
-  const HarmonicBalanceSummary s = SolveHarmonicBalance(problem, seed.guess, Options(e, 21));
+  const HarmonicBalanceSummary s = SolveHarmonicBalance(problem, seed.guess, On(basis));
   ASSERT_TRUE(s.converged()) << s.FullReport();
   const HarmonicSolution& sol = *s.solution;
   EXPECT_NEAR(sol.frequencies()[1], w[1], 1e-12);
@@ -156,7 +178,7 @@ TEST(IdentifiedGuess, RefusesAnIdentificationWithAnotherNumberOfBases) {
   ASSERT_TRUE(id.IsUsable());
   const ExampleSetup asym = BuildExample("asym-pendulum");
   try {
-    GuessFromIdentification(id, asym.problem, asym.basis_for_order(2), Variables(asym));
+    GuessFromIdentification(id, asym.problem, HarmonicBasis::Diamond(2, 2), Variables(asym));
     FAIL() << "no exception";
   } catch (const std::invalid_argument& err) {
     EXPECT_NE(std::string(err.what()).find("found 1 base frequencies, the model has 2"), std::string::npos)

@@ -1,0 +1,49 @@
+#ifndef RMHB_TRUNCATION_ESTIMATE_H_
+#define RMHB_TRUNCATION_ESTIMATE_H_
+
+// How far a harmonic balance solution on a truncated basis is from the
+// untruncated one, per quantity (METHOD.md s.8):
+//   TruncationEstimate e = EstimateTruncation(solution, &lower_order_solution);
+//   e.state      // max over variables of the time-domain error, relative to the variable
+//   e.frequency  // relative error of the unknown base frequencies
+// From the coefficient tail: the sizes of the harmonics on the basis's outer
+// boundary (each variable relative to its largest coefficient), times the
+// geometric factor of the decay fitted along the levels |k|_1. The error of
+// the retained coefficients is the tail times a problem constant (the
+// Jacobian's amplification: near a resonance more than 1); a solution of the
+// same problem on a smaller basis measures that constant per quantity (their
+// difference against the smaller basis's tail), so the frequency's faster
+// convergence (Van der Pol: its error ~ the tail squared) is stated
+// separately. Without one the constant is taken as 1.
+
+#include <vector>
+
+#include "rmhb/harmonic_solution.h"
+
+namespace rmhb {
+
+struct TruncationEstimate {
+  double tail = 0;        // boundary sizes times the decay factor (relative)
+  double decay = 1;       // fitted ratio of sizes per level; 1 when no decay is seen
+  int top_level = 0;      // largest |k|_1 in the basis
+  double state = 0;       // estimated max time-domain error, relative per variable
+  double frequency = 0;   // estimated relative error of the frequencies (unknown ones)
+  bool calibrated = false;  // the constants came from a lower-order solution
+  // The smallest top level whose predicted state error is below `target`
+  // (extrapolating the decay); top_level when met, -1 when no decay is seen.
+  int PredictLevel(double target) const;
+};
+
+// `lower`: the same problem solved on a basis contained in s.basis() (may be
+// null). Frequency errors count only the frequencies that differ between
+// the two; without `lower` the frequency estimate is the state estimate.
+TruncationEstimate EstimateTruncation(const HarmonicSolution& s, const HarmonicSolution* lower = nullptr);
+
+// Per harmonic k of s.basis(): max over variables of |c_jk| / scale_j
+// (scale_j: the variable's largest coefficient, at least 1e-6 of the largest
+// over all variables), harmonic 0 included.
+std::vector<double> HarmonicSizes(const HarmonicSolution& s);
+
+}  // namespace rmhb
+
+#endif  // RMHB_TRUNCATION_ESTIMATE_H_

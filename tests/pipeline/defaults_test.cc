@@ -1,0 +1,116 @@
+// Defaults only, on model files written for the purpose (not examples):
+// every solve aims at the default accuracy target (1e-10) and what it
+// reports as met is met against an independent reference -- the exact
+// period by quadrature of the energy, a tight CVODE trajectory from the
+// solution's own state (METHOD.md s.8).
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+#include "rmhb/pipeline/settings.h"
+#include "rmhb/pipeline/solve.h"
+
+namespace rmhb {
+namespace {
+
+SolveSummary SolveWithDefaults(const std::string& file, double* seconds = nullptr) {
+  SolveSettings settings;
+  settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve
+  const auto begin = std::chrono::steady_clock::now();
+  const PreparedSolve prepared = PrepareSolve(LoadModel(file), settings);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return s;
+}
+
+// Period of x'' + V'(x) = 0 released at rest from b: 2 int_a^b dx / sqrt(2 (V(b) - V(x)))
+// with V(a) = V(b), a < b; x = a + (b - a) sin^2(phi/2) makes the integrand
+// smooth and even in phi, so the midpoint rule converges spectrally.
+// `gap(e, d)` is V(e) - V(e + d), written without cancellation for small d
+// (x itself is never formed near a turning point e: its rounding would be
+// amplified there).
+using Gap = std::function<double(double e, double d)>;
+double ExactPeriod(const Gap& gap, double b) {
+  double lo = -50, hi = 0;  // V(a) = V(b) on the other side of the minimum at 0
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (gap(b, mid - b) < 0 ? lo : hi) = mid;
+  }
+  const double a = 0.5 * (lo + hi);
+  const int n = 4000;
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    const double phi = M_PI * (i + 0.5) / n, s = std::sin(phi / 2), c = std::cos(phi / 2);
+    const double g = phi < M_PI / 2 ? gap(a, (b - a) * s * s) : gap(b, -(b - a) * c * c);
+    sum += (b - a) * s * c / std::sqrt(2 * g);
+  }
+  return 2 * sum * M_PI / n;
+}
+
+void ExpectTargetMet(const std::string& file, const Gap& gap, double A) {
+  const SolveSummary s = SolveWithDefaults(file);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  const HarmonicBalanceSummary& hb = s.harmonic_balance;
+  EXPECT_EQ(hb.tolerance, 1e-10);
+  ASSERT_TRUE(hb.estimate_calibrated);
+  EXPECT_LE(hb.state_estimate, 1e-10);
+  const double w = s.solution().frequencies()[0], exact = 2 * M_PI / ExactPeriod(gap, A);
+  const double frequency_error = std::abs(w - exact) / exact;
+  const integrators::ValidationReport v = ValidateOriginal(LoadModel(file), s.solution(), 2 * M_PI / w);
+  ASSERT_TRUE(v.ok) << v.message;
+  std::printf("  %s: N = %d (orders", file.c_str(), hb.order);
+  for (int o : hb.orders_tried) std::printf(" %d", o);
+  std::printf("), estimates state %.1e frequency %.1e; measured: frequency %.1e, orbit %.1e, %.1f ms\n",
+              hb.state_estimate, hb.frequency_estimate, frequency_error, v.max_error / A, hb.seconds * 1e3);
+  EXPECT_LE(frequency_error, 1e-10);
+  EXPECT_LE(frequency_error, std::max(hb.frequency_estimate, 1e-13));  // an upper estimate (above round-off)
+  EXPECT_LE(v.max_error / A, 1e-10);
+}
+
+TEST(DefaultTarget, PeriodicModelsMeetItAgainstTheExactPeriod) {
+  // V = e^x - 1 - x: V(e) - V(e + d) = -e^e expm1(d) + d.
+  ExpectTargetMet("tests/pipeline/models/exp-oscillator.yaml",
+                  [](double e, double d) { return d - std::exp(e) * std::expm1(d); }, 2);
+  // V = sqrt(1 + x^2) - 1: V(e) - V(e + d) = -d (2e + d) / (sqrt(1 + e^2) + sqrt(1 + (e + d)^2)).
+  ExpectTargetMet("tests/pipeline/models/radical-oscillator.yaml",
+                  [](double e, double d) {
+                    return -d * (2 * e + d) / (std::sqrt(1 + e * e) + std::sqrt(1 + (e + d) * (e + d)));
+                  },
+                  3);
+}
+
+// Quasi-periodic: the index set is chosen from the coefficients (adaptive
+// enrichment), the symmetries detected on the equations, the start found by
+// identification when the file gives no guess.
+void ExpectTorusWithin(const std::string& file, double t_end, double tolerance) {
+  double seconds = 0;
+  const SolveSummary s = SolveWithDefaults(file, &seconds);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  const HarmonicBalanceSummary& hb = s.harmonic_balance;
+  EXPECT_LE(hb.truncation_estimate, 1e-10);
+  const integrators::ValidationReport v = ValidateOriginal(LoadModel(file), s.solution(), t_end, 4001);
+  ASSERT_TRUE(v.ok) << v.message;
+  std::printf("  %s: %d harmonics (%s), start %s, %zu symmetries, estimate %.1e; max error %.2e over [0, %g]; "
+              "%.2f s with the start\n",
+              file.c_str(), s.solution().basis().size(), s.solution().basis().shape().c_str(), s.start_route.c_str(),
+              s.symmetries.size(), hb.truncation_estimate, v.max_error, t_end, seconds);
+  EXPECT_LT(v.max_error, tolerance);
+}
+
+TEST(DefaultTarget, QuasiPeriodicModelsWithinTheirTrajectories) {
+  ExpectTorusWithin("tests/pipeline/models/coupled-pendula.yaml", 1000, 1e-8);
+  ExpectTorusWithin("tests/pipeline/models/my-forced-vdp.yaml", 1000, 1e-8);
+}
+
+TEST(DefaultTarget, TheAsymmetricPendulumFileOverTwoThousandTimeUnits) {
+  ExpectTorusWithin("examples/models/asym-pendulum.yaml", 2000, 1e-8);
+}
+
+}  // namespace
+}  // namespace rmhb
