@@ -89,7 +89,6 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
   term_.resize(M_);
   proj_.resize(C_);
   coef_.resize(C_);
-  block_.resize(C_, C_);
   rates_.resize(basis.size());
   for (long t = 0; t < M_; ++t) sample_phase_.push_back(transform_->Phase({1}, t));
   SetUpLinearAlgebra();
@@ -618,7 +617,7 @@ void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x, Eigen::Ma
     for (int s : eq.slots) {
       EvaluateSamples(eq, s, work_.data());
       transform_->Analyze(work_.data());
-      block_.setZero();
+      block_.setZero(C_, C_);
       transform_->AddMultiplicationMatrix(1.0, nullptr, block_);
       Eigen::MatrixXd& part = slots_[s].derivative ? *derivative_part : *value_part;
       part.block(static_cast<long>(i) * C_, slots_[s].variable * C_, C_, C_) += block_;
@@ -653,7 +652,7 @@ void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x,
     for (int s : eq.slots) {
       EvaluateSamples(eq, s, work_.data());
       transform_->Analyze(work_.data());
-      block_.setZero();
+      block_.setZero(C_, C_);
       transform_->AddMultiplicationMatrix(1.0, nullptr, block_);
       const double floor = 1e-14 * block_.cwiseAbs().maxCoeff();
       auto& part = slots_[s].derivative ? derivative : value;
@@ -699,7 +698,7 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
       EvaluateSamples(eq, s, work_.data());
       const int j = slots_[s].variable;
       transform_->Analyze(work_.data());
-      block_.setZero();
+      block_.setZero(C_, C_);
       transform_->AddMultiplicationMatrix(1.0, slots_[s].derivative ? rates_.data() : nullptr,
                                           block_);
       AddVariableBlock(jacobian, eq.first_row, block_.bottomRows(rows), j, x);

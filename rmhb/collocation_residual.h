@@ -194,7 +194,7 @@ class CollocationResidual : public NonlinearProblem {
   // Work buffers, reused across evaluations (no allocation in the loop).
   std::vector<Eigen::VectorXd> slot_samples_;
   Eigen::VectorXd work_, term_, proj_, coef_;
-  Eigen::MatrixXd block_;
+  Eigen::MatrixXd block_;  // C x C, sized on first use: Newton-Krylov never forms it
   std::vector<double> rates_;
   // Per pointwise equation: samples x (value, d/d(slot) per slot of eq.slots).
   std::vector<Eigen::MatrixXd> pointwise_values_;

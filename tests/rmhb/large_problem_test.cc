@@ -86,6 +86,29 @@ TEST(LargeProblem, JacobianProductAndSparseJacobianEqualTheDenseJacobian) {
   CheckLinearization("duffing-2tone", 4, true);
 }
 
+// The matrix-free path forms nothing of size (2N + 1)^2: at N = 100 000 (the
+// largest order a basis takes) one dense block would take 320 GB, yet the
+// residual, its linearisation and a product (against central differences of
+// the residual) cost a few FFTs.
+TEST(LargeProblem, ProductsAtAnOrderWhoseDenseBlockCouldNotExist) {
+  Case c = MakeCase("duffing", 100000, true);
+  CollocationResidual& r = *c.residual;
+  // At the guess itself (the random perturbation of every one of the 200 001
+  // coefficients would make |F| ~ 1e8 and the differences mere round-off).
+  const HarmonicSolution guess = c.e.guess.OnBasis(c.basis);
+  c.x = r.Pack(guess.coefficients(), guess.frequencies());
+  Eigen::VectorXd F, product, plus, minus;
+  ASSERT_TRUE(r.Linearize(c.x, &F));
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(r.num_unknowns());
+  for (int i = 0; i < std::min<int>(40, v.size()); ++i) v(i) = 1.0 / (1 + i);
+  r.ApplyJacobian(v, &product);
+  const double h = 1e-6;
+  ASSERT_TRUE(r.Evaluate(c.x + h * v, &plus, nullptr));
+  ASSERT_TRUE(r.Evaluate(c.x - h * v, &minus, nullptr));
+  const Eigen::VectorXd difference = (plus - minus) / (2 * h);
+  EXPECT_LT((product - difference).cwiseAbs().maxCoeff(), 1e-7 * difference.cwiseAbs().maxCoeff());
+}
+
 HarmonicBalanceSummary SolveWith(const std::string& example, int order, LinearSolver solver,
                                  std::map<std::string, double> parameters = {}) {
   examples::ExampleSetup e = examples::BuildExample(example, parameters);
