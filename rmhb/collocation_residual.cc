@@ -607,22 +607,29 @@ const Eigen::VectorXd& CollocationResidual::Layout(const Eigen::VectorXd& x) {
   return expanded_;
 }
 
-void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x, Eigen::MatrixXd* value_part,
-                                             Eigen::MatrixXd* derivative_part) {
+// Every (equation, slot) block E* diag(dg_i/dz_s) E of the linearisation at
+// x (no frequency rates), handed to add(equation, slot, block) in turn.
+template <typename AddBlock>
+void CollocationResidual::ForEachBlock(const Eigen::VectorXd& x, AddBlock add) {
   SampleSlots(Layout(x));
-  value_part->setZero(n_ * C_, n_ * C_);
-  derivative_part->setZero(n_ * C_, n_ * C_);
-  for (size_t i = 0; i < equations_.size(); ++i) {
-    const CompiledEquation& eq = equations_[i];
-    for (int s : eq.slots) {
-      EvaluateSamples(eq, s, work_.data());
+  for (size_t i = 0; i < equations_.size(); ++i)
+    for (int s : equations_[i].slots) {
+      EvaluateSamples(equations_[i], s, work_.data());
       transform_->Analyze(work_.data());
       block_.setZero(C_, C_);
       transform_->AddMultiplicationMatrix(1.0, nullptr, block_);
-      Eigen::MatrixXd& part = slots_[s].derivative ? *derivative_part : *value_part;
-      part.block(static_cast<long>(i) * C_, slots_[s].variable * C_, C_, C_) += block_;
+      add(static_cast<int>(i), slots_[s], block_);
     }
-  }
+}
+
+void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x, Eigen::MatrixXd* value_part,
+                                             Eigen::MatrixXd* derivative_part) {
+  value_part->setZero(n_ * C_, n_ * C_);
+  derivative_part->setZero(n_ * C_, n_ * C_);
+  ForEachBlock(x, [&](int i, const SlotInfo& slot, const Eigen::MatrixXd& block) {
+    Eigen::MatrixXd& part = slot.derivative ? *derivative_part : *value_part;
+    part.block(static_cast<long>(i) * C_, slot.variable * C_, C_, C_) += block;
+  });
 }
 
 bool CollocationResidual::SampledPartials(const Eigen::VectorXd& x, Eigen::MatrixXd* value,
@@ -645,23 +652,14 @@ bool CollocationResidual::SampledPartials(const Eigen::VectorXd& x, Eigen::Matri
 void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x,
                                              Eigen::SparseMatrix<double>* value_part,
                                              Eigen::SparseMatrix<double>* derivative_part) {
-  SampleSlots(Layout(x));
   std::vector<Eigen::Triplet<double>> value, derivative;
-  for (size_t i = 0; i < equations_.size(); ++i) {
-    const CompiledEquation& eq = equations_[i];
-    for (int s : eq.slots) {
-      EvaluateSamples(eq, s, work_.data());
-      transform_->Analyze(work_.data());
-      block_.setZero(C_, C_);
-      transform_->AddMultiplicationMatrix(1.0, nullptr, block_);
-      const double floor = 1e-14 * block_.cwiseAbs().maxCoeff();
-      auto& part = slots_[s].derivative ? derivative : value;
-      for (int l = 0; l < C_; ++l)
-        for (int k = 0; k < C_; ++k)
-          if (std::abs(block_(k, l)) > floor)
-            part.emplace_back(static_cast<int>(i) * C_ + k, slots_[s].variable * C_ + l, block_(k, l));
-    }
-  }
+  ForEachBlock(x, [&](int i, const SlotInfo& slot, const Eigen::MatrixXd& block) {
+    const double floor = 1e-14 * block.cwiseAbs().maxCoeff();
+    auto& part = slot.derivative ? derivative : value;
+    for (int l = 0; l < C_; ++l)
+      for (int k = 0; k < C_; ++k)
+        if (std::abs(block(k, l)) > floor) part.emplace_back(i * C_ + k, slot.variable * C_ + l, block(k, l));
+  });
   value_part->resize(n_ * C_, n_ * C_);
   derivative_part->resize(n_ * C_, n_ * C_);
   value_part->setFromTriplets(value.begin(), value.end());

@@ -119,6 +119,9 @@ class CollocationResidual : public NonlinearProblem {
   };
 
   void Frequencies(const Eigen::VectorXd& x, std::vector<double>* w) const;
+  // The linearisation's blocks at x, one (equation, slot) at a time.
+  template <typename AddBlock>
+  void ForEachBlock(const Eigen::VectorXd& x, AddBlock add);
   // The residual and Jacobian on the full, unreduced unknowns.
   bool EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                     Eigen::MatrixXd* jacobian);

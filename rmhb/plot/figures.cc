@@ -12,6 +12,16 @@ namespace rmhb::plot {
 
 namespace {
 
+// The original equations from the solution's state at t = 0, sampled at times.
+integrators::IntegrationResult OriginalTrajectory(const Model& source, const HarmonicSolution& sol,
+                                         const std::vector<double>& times, double relative_tolerance) {
+  integrators::IntegratorOptions io;
+  io.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
+  io.relative_tolerance = relative_tolerance;
+  io.absolute_tolerance = 1e-2 * relative_tolerance;
+  return integrators::IntegrateOde(source.original(sol.frequencies()), source.state(sol, 0.0), 0.0, times, io);
+}
+
 // A 2-torus cut at theta1 = 0: the closed curve z(0, theta2) of the
 // solution, and the original equations' trajectory from its state at t = 0
 // sampled every period 2 pi / w1 of the first base (a stroboscopic map:
@@ -29,12 +39,7 @@ PlotPanel TorusSection(const Model& source, const HarmonicSolution& sol) {
   const double T1 = 2 * M_PI / sol.frequencies()[0];
   std::vector<double> times;
   for (int k = 0; k < 400; ++k) times.push_back(k * T1);
-  integrators::IntegratorOptions io;
-  io.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
-  io.relative_tolerance = 1e-12;
-  io.absolute_tolerance = 1e-14;
-  const integrators::IntegrationResult r =
-      integrators::IntegrateOde(source.original(sol.frequencies()), source.state(sol, 0.0), 0.0, times, io);
+  const integrators::IntegrationResult r = OriginalTrajectory(source, sol, times, 1e-12);
   PlotSeries points{"CVODE, 400 periods of w1", {}, {}, PlotSeries::Style::kPoints, {}};
   for (int i = 0; i < r.trajectory.size(); ++i)
     points.x.push_back(r.trajectory.states(i, 0)), points.y.push_back(r.trajectory.states(i, 1));
@@ -58,12 +63,7 @@ void PlotSolution(const Model& source, const HarmonicSolution& sol, const std::s
   PlotPanel error{"|harmonic balance - CVODE|", "t", "error", false, true, {}};
   PlotPanel phase{"phase portrait", n ? source.state_names[0] : "", n > 1 ? source.state_names[1] : "", false, false, {}};
   if (n) {
-    integrators::IntegratorOptions io;
-    io.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
-    io.relative_tolerance = 1e-13;
-    io.absolute_tolerance = 1e-15;
-    const integrators::IntegrationResult r =
-        integrators::IntegrateOde(source.original(sol.frequencies()), source.state(sol, 0.0), 0.0, times, io);
+    const integrators::IntegrationResult r = OriginalTrajectory(source, sol, times, 1e-13);
     for (int j = 0; j < n; ++j) {
       PlotSeries line{source.state_names[j] + " (HB)", times, hb[j], PlotSeries::Style::kLines, {}};
       PlotSeries ref{source.state_names[j] + " (CVODE)", {}, {}, PlotSeries::Style::kPoints, {}};
