@@ -14,7 +14,7 @@ namespace {
 
 // The original equations from the solution's state at t = 0, sampled at times.
 integrators::IntegrationResult OriginalTrajectory(const Model& source, const HarmonicSolution& sol,
-                                         const std::vector<double>& times, double relative_tolerance) {
+                                                  const std::vector<double>& times, double relative_tolerance) {
   integrators::IntegratorOptions io;
   io.method = source.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
   io.relative_tolerance = relative_tolerance;
