@@ -179,9 +179,10 @@ class Model {
 
   Solution Solve(std::optional<int> order, std::optional<int> p, std::optional<double> tol, const std::string& method,
                  const std::string& solver, const std::optional<std::vector<double>>& frequencies,
-                 const std::string& start) const {
+                 const std::string& start, const std::string& linear_solver) const {
     if (start != "auto" && start != "guess") throw std::invalid_argument("start must be auto or guess, got '" + start + "'");
     SolveSettings settings = Settings(order, p, tol, method, solver, frequencies);
+    settings.linear_solver = linear_solver;  // as --linear-solver; PrepareSolve refuses an unknown name
     settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve: unless order or p is given
     if (settings.method != "rhb" && settings.method != "hdhb" && settings.method != "aft")
       throw std::invalid_argument("method must be rhb, hdhb or aft, got '" + method + "'");
@@ -386,7 +387,7 @@ PYBIND11_MODULE(rmhb, m) {
            "A model file or a bundled example; keyword arguments override its parameters")
       .def("solve", &Model::Solve, py::arg("order") = py::none(), py::arg("p") = py::none(),
            py::arg("tol") = py::none(), py::arg("method") = "rhb", py::arg("solver") = "auto",
-           py::arg("frequencies") = py::none(), py::arg("start") = "auto")
+           py::arg("frequencies") = py::none(), py::arg("start") = "auto", py::arg("linear_solver") = "auto")
       .def("analyze", &Model::Analyze, py::arg("order") = py::none(), py::arg("t_end") = 0.0,
            py::arg("transient") = -1.0, py::arg("validate_periods") = 20,
            "Integrate, identify the frequencies, seed, solve and validate")

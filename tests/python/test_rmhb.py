@@ -128,6 +128,8 @@ def test_errors_are_python_exceptions(tmp_path):
         rmhb.Model("duffing").solve(method="galerkin")
     with pytest.raises(ValueError, match="order or p"):
         rmhb.Model("duffing").solve(order=5, p=5)
+    with pytest.raises(ValueError, match="unknown linear solver 'lu'"):
+        rmhb.Model("duffing").solve(order=5, linear_solver="lu")
     with pytest.raises(TypeError):
         rmhb.Model("duffing").solve(order="five")
     with pytest.raises(ValueError, match="uniformly spaced"):
@@ -138,9 +140,11 @@ def test_solves_release_the_gil():
     # While a long solve runs in a thread, Python code keeps running here:
     # with the GIL held for the whole solve this loop would stall for as long
     # as the solve takes (the longest gap between two turns shows it).
+    # The dense LU keeps the solve long enough to tell (Newton-Krylov, which
+    # auto takes at these 1602 unknowns, finishes it in ~20 ms; dense ~0.3 s).
     m = rmhb.Model("vanderpol", eps=5.0)
     done = []
-    worker = threading.Thread(target=lambda: done.append(m.solve(order=600)))
+    worker = threading.Thread(target=lambda: done.append(m.solve(order=800, linear_solver="dense")))
     last, longest_gap = time.perf_counter(), 0.0  # before start(): the stall may come at once
     worker.start()
     while worker.is_alive():  # a stall may sit inside is_alive(): the last gap counts too
@@ -152,6 +156,9 @@ def test_solves_release_the_gil():
     solve = done[0].seconds
     assert solve > 0.05, "the solve was too short to tell"
     assert longest_gap < 0.5 * solve, f"this thread stalled {longest_gap:.3f} s of a {solve:.3f} s solve: the GIL was held"
+    # The same orbit by Newton-Krylov (--linear-solver's choices reach Python too).
+    krylov = m.solve(order=800, linear_solver="krylov")
+    assert abs(krylov.frequencies[0] - done[0].frequencies[0]) < 1e-12 * done[0].frequencies[0]
 
 
 def test_binding_overhead_is_under_ten_percent_of_a_small_solve():
