@@ -18,6 +18,7 @@
 
 #include "examples/example_model.h"
 #include "integrators/floquet.h"
+#include "integrators/lyapunov.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/continuation.h"
 #include "rmhb/harmonic_balance.h"
@@ -37,6 +38,7 @@
 #include "rmhb/pipeline/solve.h"
 #include "rmhb/pipeline/stability.h"
 #include "rmhb/pipeline/start.h"
+#include "rmhb/pipeline/torus.h"
 #include "rmhb/seeding/identified_guess.h"
 #include "rmhb/version.h"
 
