@@ -441,20 +441,7 @@ std::vector<std::vector<int>> Enrich(const HarmonicSolution& s, double threshold
     for (int& v : neg) v = -v;
     index[neg] = k;
   }
-  std::vector<std::vector<int>> steps;
-  for (int i = 0; i < d; ++i)
-    for (int a : {-2, -1, 1, 2}) {
-      std::vector<int> step(d, 0);
-      step[i] = a;
-      steps.push_back(step);
-      if (std::abs(a) == 1)
-        for (int j = i + 1; j < d; ++j)
-          for (int b : {-1, 1}) {
-            std::vector<int> t = step;
-            t[j] = b;
-            steps.push_back(t);
-          }
-    }
+  const std::vector<std::vector<int>> steps = NeighbourSteps(d);
   std::map<std::vector<int>, double> candidates;  // canonical sign -> predicted size
   auto add = [&](std::vector<int> k, double predicted) {
     bool zero = true;

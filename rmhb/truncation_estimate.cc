@@ -44,20 +44,7 @@ std::vector<int> Boundary(const HarmonicBasis& basis) {
     for (int& v : neg) v = -v;
     in.insert(neg);
   }
-  std::vector<std::vector<int>> steps;
-  for (int i = 0; i < d; ++i)
-    for (int a : {-2, -1, 1, 2}) {
-      std::vector<int> s(d, 0);
-      s[i] = a;
-      steps.push_back(s);
-      if (std::abs(a) != 1) continue;
-      for (int j = i + 1; j < d; ++j)
-        for (int b : {-1, 1}) {
-          std::vector<int> t = s;
-          t[j] = b;
-          steps.push_back(t);
-        }
-    }
+  const std::vector<std::vector<int>> steps = NeighbourSteps(d);
   for (int k = 1; k < basis.size(); ++k)
     for (const auto& s : steps) {
       std::vector<int> n = basis.harmonic(k);
@@ -105,6 +92,24 @@ double Tail(const HarmonicSolution& s, double* decay, int* top) {
 }
 
 }  // namespace
+
+std::vector<std::vector<int>> NeighbourSteps(int d) {
+  std::vector<std::vector<int>> steps;
+  for (int i = 0; i < d; ++i)
+    for (int a : {-2, -1, 1, 2}) {
+      std::vector<int> s(d, 0);
+      s[i] = a;
+      steps.push_back(s);
+      if (std::abs(a) != 1) continue;
+      for (int j = i + 1; j < d; ++j)
+        for (int b : {-1, 1}) {
+          std::vector<int> t = s;
+          t[j] = b;
+          steps.push_back(t);
+        }
+    }
+  return steps;
+}
 
 std::vector<double> HarmonicSizes(const HarmonicSolution& s) {
   const Eigen::MatrixXd& c = s.coefficients();

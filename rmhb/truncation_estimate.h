@@ -44,6 +44,13 @@ TruncationEstimate EstimateTruncation(const HarmonicSolution& s, const HarmonicS
 // over all variables), harmonic 0 included.
 std::vector<double> HarmonicSizes(const HarmonicSolution& s);
 
+// The steps from a harmonic to its neighbours in d bases: +-1 and +-2 along
+// each base and +-1 along two bases at once (|step|_1 <= 2), so that a
+// spectrum with only every other harmonic (a half-wave symmetry) still
+// connects. The truncation's boundary and the adaptive index set's
+// enrichment look at the same neighbours.
+std::vector<std::vector<int>> NeighbourSteps(int d);
+
 }  // namespace rmhb
 
 #endif  // RMHB_TRUNCATION_ESTIMATE_H_
