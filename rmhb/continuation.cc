@@ -613,7 +613,19 @@ ContinuationSummary TraceBranch(const ContinuationProblem& problem, const Harmon
     summary.message = msg.str();
     return finish();
   }
-  ParameterizedResidual f(problem.parameter, problem.build, problem.start, MakeBasis(bases, options.harmonic_balance),
+  // The solved basis (order selection or the adaptive index set may have
+  // moved it from the options', METHOD.md s.8), and the symmetries the
+  // adaptive set found and imposed: the branch stays in that symmetric
+  // subspace (Newton's iterates from a symmetric point do), at a quarter of
+  // the unknowns per pair of reflections.
+  const std::vector<HalfTurnSymmetry> found = solved.symmetries_found;
+  const ParameterizedResidual::Build build = [&problem, found](double value) {
+    HarmonicBalanceProblem p = problem.build(value);
+    p.symmetries.insert(p.symmetries.end(), found.begin(), found.end());
+    return p;
+  };
+  ParameterizedResidual f(problem.parameter, found.empty() ? problem.build : build, problem.start,
+                          solved.solution->basis(),
                           bases == 1 ? Sampling::Uniform(solved.samples[0]) : Sampling::Torus(solved.samples));
   const Eigen::VectorXd x0 =
       f.At(problem.start)->Pack(solved.solution->coefficients(), solved.solution->frequencies());

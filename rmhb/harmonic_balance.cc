@@ -531,10 +531,10 @@ HarmonicBalanceSummary SelectIndexSet(const HarmonicBalanceProblem& problem, con
   if (current.converged() && current.solution) {
     const std::vector<HalfTurnSymmetry> found = SymmetriesOf(
         *current.solution, DetectHalfTurnSymmetries(problem.system, d), problem.symmetries, 1e-11);
-    for (const HalfTurnSymmetry& s : found) current.symmetries_found.push_back(s.description);
+    current.symmetries_found = found;
     working.symmetries.insert(working.symmetries.end(), found.begin(), found.end());
   }
-  const std::vector<std::string> symmetries_found = current.symmetries_found;
+  const std::vector<HalfTurnSymmetry> symmetries_found = current.symmetries_found;
   std::optional<HarmonicSolution> lower;
   double threshold = 1e-2 * options.tolerance;
   auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {

@@ -141,8 +141,9 @@ struct HarmonicBalanceSummary {
   double state_estimate = -1, frequency_estimate = -1;
   bool estimate_calibrated = false;
   // Symmetries of the equations that the adaptive index set's first solve
-  // found in its solution and imposed from then on (descriptions).
-  std::vector<std::string> symmetries_found;
+  // found in its solution and imposed from then on (continuation keeps
+  // imposing them along the branch).
+  std::vector<HalfTurnSymmetry> symmetries_found;
   // Set after a converged solve (options.check_physical): the algebra
   // converged (solver.status) but the solution is not an oscillation of the
   // original equations; `non_physical` says why (which frequency or

@@ -144,7 +144,9 @@ int RunContinuation(const SolveArgs& solve, const ContinuationArgs& a) {
                                 " needs the stability that --no-stability turns off");
   if (a.natural && a.switch_branches)
     throw std::invalid_argument("--switch-branches follows the new branches by pseudo-arclength: drop --natural");
-  const PreparedSolve prepared = Prepare(solve.settings, {{range.name, range.from}});
+  ModelSettings settings = solve.settings;
+  settings.solve.default_torus_tol = SolveSettings::kDefaultTolerance;  // tori: the first point's index set
+  const PreparedSolve prepared = Prepare(settings, {{range.name, range.from}});
   ContinueOptions options;
   options.parameter = range.name;
   options.from = range.from;

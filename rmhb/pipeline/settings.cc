@@ -14,6 +14,8 @@ std::string SolveSettings::IsValid() const {
     return "--samples must be >= 1 (got " + std::to_string(samples) + ")";
   if (!(tol >= 0) || !std::isfinite(tol)) return "--tol must be a finite number >= 0 (got " + std::to_string(tol) + ")";
   if (!(default_tol >= 0) || !std::isfinite(default_tol)) return "default_tol must be a finite number >= 0";
+  if (!(default_torus_tol >= 0) || !std::isfinite(default_torus_tol))
+    return "default_torus_tol must be a finite number >= 0";
   if (tol_quantity != "state" && tol_quantity != "frequency")
     return "--tol-quantity must be state or frequency (got '" + tol_quantity + "')";
   if (!(max_jacobian_gib > 0) || !std::isfinite(max_jacobian_gib)) return "--max-jacobian-gib must be finite and > 0";
@@ -37,8 +39,9 @@ PreparedSolve PrepareSolve(Model model, const SolveSettings& a) {
   options.rule = ParseSamplingRule(a.method);
   if (a.samples > 0) options.samples.assign(bases, a.samples);
   options.allow_aliasing = a.allow_aliasing;
+  const double default_tol = a.default_tol > 0 ? a.default_tol : bases > 1 ? a.default_torus_tol : 0;
   options.tolerance = a.tol > 0 ? a.tol
-                      : !a.order_given && !a.samples_given && options.rule == SamplingRule::kRhb ? a.default_tol
+                      : !a.order_given && !a.samples_given && options.rule == SamplingRule::kRhb ? default_tol
                                                                                                  : 0;
   options.tolerance_quantity = ParseTargetQuantity(a.tol_quantity);
   // The default target is a wish, not an order: bounded at 4x the start (at

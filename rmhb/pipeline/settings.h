@@ -47,6 +47,11 @@ struct SolveSettings {
   // (kDefaultTolerance); the studies that sweep many solves at one order
   // (continuation, sweep, montecarlo, convergence) leave it 0.
   double default_tol = 0;
+  // The same for quasi-periodic models only (when default_tol is 0):
+  // continuation sets it, so that a torus branch starts on the adaptive
+  // index set of its first point (kept along the branch) rather than on the
+  // default diamond, which misses a slow beat's band.
+  double default_torus_tol = 0;
   static constexpr double kDefaultTolerance = 1e-10;
   std::string tol_quantity = "state";  // state, frequency (TargetQuantity)
   int max_order = 5000;  // the order selection's limit

@@ -45,8 +45,8 @@ std::string Details(const SolveSummary& s) {
   else
     out += Format("recast (phi = %d):\n", hb.degree) + s.recast;
   for (const std::string& symmetry : s.symmetries) out += "symmetry     " + symmetry + " (the guess has it)\n";
-  for (const std::string& symmetry : hb.symmetries_found)
-    out += "symmetry     " + symmetry + " (the first solution has it)\n";
+  for (const HalfTurnSymmetry& symmetry : hb.symmetries_found)
+    out += "symmetry     " + symmetry.description + " (the first solution has it)\n";
   out += "status       " + s.status_word() + (hb.solver.message.empty() ? "" : ": ") + hb.solver.message + "\n";
   out += Format("residual     %.3e after %d iterations (%s)\n", hb.solver.final_residual, hb.solver.iterations,
                 ToString(hb.solver.method));
@@ -147,7 +147,7 @@ json SolveSummary::ToJson() const {
   if (!equations_note.empty()) out["equations_note"] = equations_note;
   if (!symmetries.empty() || !hb.symmetries_found.empty()) {
     std::vector<std::string> all = symmetries;
-    all.insert(all.end(), hb.symmetries_found.begin(), hb.symmetries_found.end());
+    for (const HalfTurnSymmetry& symmetry : hb.symmetries_found) all.push_back(symmetry.description);
     out["symmetries"] = all;
   }
   out["method"] = ToString(options.rule);

@@ -215,7 +215,8 @@ class Model {
     BranchSummary branch;
     {
       py::gil_scoped_release release;
-      const SolveSettings settings = Settings(order, {}, {}, "rhb", "auto", {});
+      SolveSettings settings = Settings(order, {}, {}, "rhb", "auto", {});
+      settings.default_torus_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve --continue
       const PreparedSolve prepared = PrepareSolve(WithParameters(*model_, {{parameter, start}}), settings);
       ContinueOptions options;
       options.parameter = parameter;

@@ -139,8 +139,8 @@ void ForcedVanDerPol() {
 }
 
 void AsymmetricPendulum() {
-  SolveSettings settings;
-  settings.order = 12;  // the diamond at p = 12 (README: it does not resolve this torus)
+  SolveSettings settings;  // defaults, as rmhb solve --continue: the first point's adaptive index set
+  settings.default_torus_tol = SolveSettings::kDefaultTolerance;
   const PreparedSolve prepared = PrepareSolve(examples::LoadModelOrExample("asym-pendulum", {}), settings);
   ContinueOptions o;
   o.parameter = "x0";

@@ -12,6 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 
 #include "integrators/cvode_integrator.h"
 #include "integrators/lyapunov.h"
@@ -150,6 +152,56 @@ TEST(Torus, ForcedBranchStableByLyapunovAndAcrossTheOneToOneTongue) {
   EXPECT_EQ(PhaseSlips(t.near_edge - 1e-4, 3000, 1500), 0);
   EXPECT_GE(PhaseSlips(t.near_edge + 1e-4, 3000, 1500), 1);
   EXPECT_EQ(b.status, BranchStatus::kCompleted) << b.message;  // locked to the end of the range
+}
+
+// A conservative 2-DOF model file written here (not bundled), both
+// frequencies unknown, continued with defaults (as rmhb solve --continue):
+// the first point's adaptive index set and its detected reflection are kept
+// along the branch, and every point is a true torus (CVODE over the slowest
+// period) at the target's accuracy.
+TEST(Torus, BranchOfAModelFileOnTheAdaptiveIndexSet) {
+  const std::string file = ::testing::TempDir() + "/two_duffing.yaml";
+  std::ofstream(file) << "name: two-duffing\nvariables: [x, y]\nparameters: {x0: 0.3, y0: 0.15}\n"
+                         "equations:\n  - \"x'' + x + 0.5*x^3 + 0.2*(x - y) = 0\"\n"
+                         "  - \"y'' + 1.6*y + 0.3*y^3 + 0.2*(y - x) = 0\"\n"
+                         "frequencies:\n  - {guess: 1.07}\n  - {guess: 1.36}\n"
+                         "conditions:\n  - \"x(0) = x0\"\n  - \"y(0) = y0\"\n  - \"x'(0) = 0\"\n"
+                         "  - \"y'(0) = 0\"\ninitial_state: {x: x0, \"x'\": 0, y: y0, \"y'\": 0}\n";
+  SolveSettings settings;
+  settings.default_torus_tol = SolveSettings::kDefaultTolerance;
+  const PreparedSolve prepared = PrepareSolve(LoadModel(file, {}), settings);
+  EXPECT_EQ(prepared.options.shape, BasisShape::kAdaptive);
+  ContinueOptions o;
+  o.parameter = "x0";
+  o.from = 0.3;
+  o.to = 0.32;
+  o.steps = 2;
+  o.stability = false;
+  o.validate = true;
+  o.harmonic_balance = prepared.options;
+  const BranchSummary b = ContinueModel(prepared.model, prepared.guess, o);
+  ASSERT_EQ(b.status, BranchStatus::kCompleted) << b.FullReport();
+  const auto& points = b.continuation.points;
+  ASSERT_GE(points.size(), 3u);
+  const HarmonicBasis& basis = points[0].solution.basis();
+  EXPECT_EQ(basis.shape(), "adaptive");
+  for (size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(points[i].solution.basis().harmonics(), basis.harmonics());
+    EXPECT_LE(points[i].residual, 1e-14) << i;
+    EXPECT_LE(b.reports[i].validation_error, 1e-8 * b.reports[i].peak) << i;
+    EXPECT_LE(b.reports[i].outermost, 1e-10) << i;
+    // The reflection (x, y) -> -(x, y) with both angles turned by pi stays
+    // exact: every harmonic with m + n even is zero.
+    const Eigen::MatrixXd& c = points[i].solution.coefficients();
+    for (int k = 0; k < basis.size(); ++k) {
+      if ((basis.harmonic(k)[0] + basis.harmonic(k)[1]) % 2 != 0) continue;
+      for (int col : {2 * k - 1, 2 * k}) {
+        if (col < 0) continue;
+        EXPECT_EQ(c.col(col).cwiseAbs().maxCoeff(), 0.0) << i << " harmonic " << k;
+      }
+    }
+  }
+  std::remove(file.c_str());
 }
 
 TEST(Torus, AnalyzeSaysLockedOrQuasiPeriodicAndSolvesThatOne) {

@@ -146,6 +146,28 @@ TEST(Continuation, DuffingBranchPointsAreSolutionsOfTheOriginalEquation) {
   EXPECT_GE(checked, 5);
 }
 
+// With a target the first solve chooses its order (here 8 -> more): the
+// branch is continued on the basis that solve chose, not on the options'
+// (it once packed the chosen solution into the options' smaller basis and
+// reported the larger order).
+TEST(Continuation, KeepsTheOrderTheFirstSolveChose) {
+  ContinuationOptions options;
+  options.harmonic_balance.order = 8;
+  options.harmonic_balance.tolerance = 1e-12;
+  options.stability = false;
+  const ContinuationSummary s = TraceBranch(DuffingSweep(1.2, 1.3), Duffing(1.2).guess, options);
+  ASSERT_TRUE(s.completed()) << s.FullReport();
+  EXPECT_GT(s.order, 8);
+  for (const ContinuationPoint& p : s.points) {
+    EXPECT_EQ(p.solution.basis().order(), s.order);
+    EXPECT_LE(p.residual, 1e-14);
+  }
+  const HarmonicBalanceSummary direct = SolveHarmonicBalance(Duffing(1.2).problem, Duffing(1.2).guess,
+                                                             options.harmonic_balance);
+  ASSERT_TRUE(direct.converged());
+  EXPECT_LE(SolutionDifference(*direct.solution, s.points.front().solution), 1e-13);
+}
+
 TEST(Continuation, NaturalParameterStopsAtTheFoldAndSaysSo) {
   ContinuationOptions options;
   options.method = ContinuationMethod::kNatural;
