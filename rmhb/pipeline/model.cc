@@ -81,10 +81,11 @@ void ChooseEquations(const std::shared_ptr<model::RecastResult>& recast, Equatio
                         " auxiliaries";
 }
 
-}  // namespace
-
-Model LoadModel(const std::string& path, const std::map<std::string, double>& overrides, EquationsRoute route) {
-  const model::ModelDefinition definition = model::LoadModelFile(path);
+// The model from its parsed file: `reload` recasts the same definition with
+// other values, never reading or parsing the file again.
+Model ModelFromDefinition(const std::shared_ptr<const model::ModelDefinition>& parsed,
+                          const std::map<std::string, double>& overrides, EquationsRoute route) {
+  const model::ModelDefinition& definition = *parsed;
   auto recast = std::make_shared<model::RecastResult>(model::Recast(definition, overrides));
   Model p;
   p.name = recast->model_name;
@@ -147,12 +148,22 @@ Model LoadModel(const std::string& path, const std::map<std::string, double>& ov
       p.initial_state = p.state(p.guess(p.default_order), 0.0);
   }
   p.num_user_conditions = recast->num_user_conditions;
-  p.definition = std::make_shared<const model::ModelDefinition>(definition);
+  p.definition = parsed;
   p.overrides = overrides;
-  p.reload = [path, route](const model::ParameterValues& values) { return LoadModel(path, values, route); };
+  p.reload = [parsed, route](const model::ParameterValues& values) {
+    return ModelFromDefinition(parsed, values, route);
+  };
   ChooseEquations(recast, route, &p);
+  if (p.equations == "recast") p.frequency_parameters = recast->frequency_parameters;
   DetectInvariances(&p);
   return p;
+}
+
+}  // namespace
+
+Model LoadModel(const std::string& path, const std::map<std::string, double>& overrides, EquationsRoute route) {
+  return ModelFromDefinition(std::make_shared<const model::ModelDefinition>(model::LoadModelFile(path)), overrides,
+                             route);
 }
 
 Model WithParameters(const Model& model, const model::ParameterValues& values) {

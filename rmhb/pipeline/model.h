@@ -79,6 +79,15 @@ struct Model {
   std::function<Model(const model::ParameterValues& overrides)> reload;
   // The base frequencies set by SetFrequencies, re-applied by WithParameters.
   std::string frequency_settings;
+  // Parameter -> base index: the parameters that enter `problem` only as
+  // problem.frequencies[base] (a forcing frequency), so that WithParameters
+  // changing one of them changes nothing else in `problem`. A model file's
+  // are proved on its recast (model::RecastResult::frequency_parameters; on
+  // the recast route only), a built-in example's are declared with its
+  // parameters (examples/example_system.h, checked by its test). A
+  // continuation in one of them sets the frequency instead of rebuilding
+  // the model at every value (ModelContinuationProblem, METHOD.md s.19).
+  std::map<std::string, int> frequency_parameters;
   // The equations `problem` holds: "recast" or "original" (LoadModel's
   // route), and why kAuto chose them or kOriginal was not possible.
   std::string equations = "recast";

@@ -140,6 +140,30 @@ ContinuationProblem ModelContinuationProblem(std::function<Model(double)> model_
   return problem;
 }
 
+ContinuationProblem ModelContinuationProblem(const Model& model, const std::string& parameter, double start,
+                                             double end, const ModelMonodromyOptions& options) {
+  auto base = std::make_shared<const Model>(model);
+  ContinuationProblem problem = ModelContinuationProblem(
+      [base, parameter](double value) { return WithParameters(*base, {{parameter, value}}); }, parameter, start, end,
+      options);
+  const auto bound = model.frequency_parameters.find(parameter);
+  if (bound == model.frequency_parameters.end() || !model.frequency_settings.empty()) return problem;
+  HarmonicBalanceProblem first;
+  try {
+    first = problem.build(start);
+  } catch (const std::exception&) {
+    return problem;  // the trace reports it
+  }
+  problem.build = [first = std::move(first), base = bound->second, full = problem.build](double value) {
+    if (!(value > 0) || !std::isfinite(value)) return full(value);  // the model's refusal, as it words it
+    HarmonicBalanceProblem p = first;
+    p.frequencies[base] = value;
+    return p;
+  };
+  problem.only_frequencies_change = true;
+  return problem;
+}
+
 integrators::ValidationReport ValidateTorus(const Model& model, const HarmonicSolution& torus, double t_end,
                                             int samples) {
   if (!model.original && !model.original_dae)
