@@ -47,8 +47,8 @@ struct SlotRef {
 
 class Recaster {
  public:
-  Recaster(const ModelDefinition& model, const ParameterValues& overrides)
-      : model_(model), s_(*model.symbolic) {
+  Recaster(const ModelDefinition& model, const ParameterValues& overrides, bool problem_only)
+      : model_(model), s_(*model.symbolic), problem_only_(problem_only) {
     values_ = model.ParameterValuesWith(overrides);
     bases_ = internal::EvaluateBases(model, values_);
     params_ = internal::ParameterSubstitution(s_, values_);
@@ -180,10 +180,13 @@ class Recaster {
       });
     }
     source_ = -1;
-    BuildOriginalProblem(&result);
+    if (!problem_only_) BuildOriginalProblem(&result);
 
     // 5. Guess.
     BuildGuess(system, &result);
+    for (const auto& a : aux_) NoteBaseValues(a.definition, true);  // problem.definitions
+    result.frequency_parameters = FrequencyParameters();
+    if (problem_only_) return result;
 
     // 6. The original system for the integrators.
     try {
@@ -196,8 +199,6 @@ class Recaster {
       result.original_error = e.what();
     }
     if (result.original) result.initial_state = InitialState(*result.original);
-    for (const auto& a : aux_) NoteBaseValues(a.definition, true);  // problem.definitions
-    result.frequency_parameters = FrequencyParameters();
     return result;
   }
 
@@ -982,6 +983,7 @@ class Recaster {
 
   const ModelDefinition& model_;
   const SymbolicModel& s_;
+  const bool problem_only_;  // `problem`, its definitions and the guess only
   ParameterValues values_;
   internal::Bases bases_;
   GiNaC::exmap params_;
@@ -1057,10 +1059,10 @@ std::string RecastResult::Report() const {
   return out.str();
 }
 
-RecastResult Recast(const ModelDefinition& model, const ParameterValues& overrides) {
+RecastResult Recast(const ModelDefinition& model, const ParameterValues& overrides, bool problem_only) {
   if (!model.symbolic) throw ModelError("Recast: the model was not parsed", {model.source, 0, 0});
   try {
-    Recaster recaster(model, overrides);
+    Recaster recaster(model, overrides, problem_only);
     return recaster.Run();
   } catch (const ModelError&) {
     throw;

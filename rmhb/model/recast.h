@@ -134,7 +134,13 @@ struct RecastResult {
   std::string Report() const;
 };
 
-RecastResult Recast(const ModelDefinition& model, const ParameterValues& overrides = {});
+// `problem_only`: `problem` (with its definitions), the guess and
+// frequency_parameters alone, without original_problem, the original
+// system and initial_state (about half the work: their tapes), for callers
+// that rebuild the problem at many parameter values (continuation, METHOD.md
+// s.19). `problem` is the same as the full recast's; an initial_state the
+// model cannot evaluate at these values is then not an error.
+RecastResult Recast(const ModelDefinition& model, const ParameterValues& overrides = {}, bool problem_only = false);
 
 }  // namespace rmhb::model
 

@@ -153,6 +153,10 @@ Model ModelFromDefinition(const std::shared_ptr<const model::ModelDefinition>& p
   p.reload = [parsed, route](const model::ParameterValues& values) {
     return ModelFromDefinition(parsed, values, route);
   };
+  if (route == EquationsRoute::kRecast)
+    p.reload_problem = [parsed](const model::ParameterValues& values) {
+      return model::Recast(*parsed, values, true).problem;
+    };
   ChooseEquations(recast, route, &p);
   if (p.equations == "recast") p.frequency_parameters = recast->frequency_parameters;
   DetectInvariances(&p);
@@ -166,17 +170,17 @@ Model LoadModel(const std::string& path, const std::map<std::string, double>& ov
                              route);
 }
 
-Model WithParameters(const Model& model, const model::ParameterValues& values) {
+namespace {
+
+model::ParameterValues AllOverrides(const Model& model, const model::ParameterValues& values) {
   if (!model.reload) throw std::invalid_argument("the model '" + model.name + "' cannot be rebuilt with other parameters");
   model::ParameterValues all = model.overrides;
   for (const auto& [name, value] : values) all[name] = value;
-  Model out = model.reload(all);
-  if (!model.frequency_settings.empty()) SetFrequencies(model.frequency_settings, &out);
-  return out;
+  return all;
 }
 
-void SetFrequencies(const std::string& text, Model* model) {
-  HarmonicBalanceProblem* problem = &model->problem;
+// SetFrequencies on the problem alone.
+void SetProblemFrequencies(const std::string& text, HarmonicBalanceProblem* problem) {
   const int bases = static_cast<int>(problem->frequencies.size());
   std::vector<std::string> items;
   std::string item;
@@ -195,6 +199,25 @@ void SetFrequencies(const std::string& text, Model* model) {
     problem->frequencies[b] = w;
     if (unknown) problem->unknown_frequency[b] = true;
   }
+}
+
+}  // namespace
+
+Model WithParameters(const Model& model, const model::ParameterValues& values) {
+  Model out = model.reload(AllOverrides(model, values));
+  if (!model.frequency_settings.empty()) SetFrequencies(model.frequency_settings, &out);
+  return out;
+}
+
+HarmonicBalanceProblem ProblemWithParameters(const Model& model, const model::ParameterValues& values) {
+  if (!model.reload_problem) return WithParameters(model, values).problem;
+  HarmonicBalanceProblem problem = model.reload_problem(AllOverrides(model, values));
+  if (!model.frequency_settings.empty()) SetProblemFrequencies(model.frequency_settings, &problem);
+  return problem;
+}
+
+void SetFrequencies(const std::string& text, Model* model) {
+  SetProblemFrequencies(text, &model->problem);
   model->frequency_settings = text;
 }
 

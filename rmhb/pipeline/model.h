@@ -77,6 +77,11 @@ struct Model {
   // (examples/example_model.h), empty for a hand-made model. Continuation
   // and sweeps rebuild the model through it (WithParameters).
   std::function<Model(const model::ParameterValues& overrides)> reload;
+  // reload(overrides).problem (before frequency settings) without the rest
+  // of the model, where that is cheaper: a model file on the recast route
+  // recasts the problem alone (model::Recast's problem_only). Empty: use
+  // reload. ProblemWithParameters uses it.
+  std::function<HarmonicBalanceProblem(const model::ParameterValues& overrides)> reload_problem;
   // The base frequencies set by SetFrequencies, re-applied by WithParameters.
   std::string frequency_settings;
   // Parameter -> base index: the parameters that enter `problem` only as
@@ -102,6 +107,10 @@ struct Model {
 // rebuilt (no `reload`) or an unknown parameter, model::ModelError for a
 // model file's errors.
 Model WithParameters(const Model& model, const model::ParameterValues& values);
+// WithParameters(model, values).problem, through Model::reload_problem when
+// the model has one (continuation rebuilds the problem ~11 times per point
+// and needs nothing else there). Throws as WithParameters.
+HarmonicBalanceProblem ProblemWithParameters(const Model& model, const model::ParameterValues& values);
 
 // "w1,?w2": the values of known base frequencies and the guesses of unknown
 // ones ('?' makes a base unknown), one per base, each > 0. Throws

@@ -48,7 +48,8 @@ MonodromyResult ModelMonodromy(const Model& model, const HarmonicSolution& solut
 ContinuationProblem ModelContinuationProblem(std::function<Model(double value)> model_at, std::string parameter,
                                              double start, double end, const ModelMonodromyOptions& options = {});
 // The same on WithParameters(model, {{parameter, value}}) (the model is
-// copied). When the model has proved that `parameter` enters its problem
+// copied); build() takes ProblemWithParameters (a model file's problem
+// alone, without its original equations' tapes). When the model has proved that `parameter` enters its problem
 // only as a base frequency (Model::frequency_parameters; no --frequencies
 // setting), build(value) is the problem at `start` with that frequency set
 // to the value, without rebuilding the model, and only_frequencies_change is

@@ -206,8 +206,18 @@ frequencies: [w]
 guess: {x: "0.5*cos(w*t)"}
 )yaml"));
   EXPECT_EQ(model.frequency_parameters, (std::map<std::string, int>{{"w", 0}}));
-  ExpectPointsSolveTheirProblem(model, "a", Trace(model, "a", 0.2, 1.0, 8));
+  const BranchSummary in_a = Trace(model, "a", 0.2, 1.0, 8);
+  ExpectPointsSolveTheirProblem(model, "a", in_a);
   ExpectPointsSolveTheirProblem(model, "p", Trace(model, "p", 0.8, 2.0, 8));
+  // The corrector rebuilds the problem alone (model::Recast's problem_only):
+  // the branch the whole model's rebuilds give.
+  ASSERT_TRUE(model.reload_problem);
+  Model whole = model;
+  whole.reload_problem = nullptr;
+  EXPECT_EQ(LargestDifference(in_a, Trace(whole, "a", 0.2, 1.0, 8)), 0.0);
+  const HarmonicBalanceProblem alone = ProblemWithParameters(model, {{"a", 0.7}});
+  EXPECT_TRUE(SameSystem(alone.system, WithParameters(model, {{"a", 0.7}}).problem.system));
+  EXPECT_TRUE(alone.definitions);
 }
 
 }  // namespace
