@@ -39,9 +39,7 @@ FloquetReport FloquetMultipliers(const OdeSystem& system, const Eigen::VectorXd&
 
   // State [y, Phi column by column], Phi(0) = I.
   const OdeSystem augmented = VariationalSystem(system, options.jacobian);
-  Eigen::VectorXd z0(augmented.dimension);
-  z0.head(n) = y0;
-  Eigen::Map<Eigen::MatrixXd>(z0.data() + n, n, n).setIdentity();
+  const Eigen::VectorXd z0 = VariationalStart(y0);
 
   FloquetReport report;
   const IntegrationResult r = IntegrateOde(augmented, z0, t0, {t0 + period}, options.integrator);

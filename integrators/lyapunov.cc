@@ -41,9 +41,7 @@ LyapunovReport LyapunovExponents(const OdeSystem& system, const Eigen::VectorXd&
   const auto start = std::chrono::steady_clock::now();
   const int n = system.dimension;
   const OdeSystem augmented = VariationalSystem(system, options.jacobian);
-  Eigen::VectorXd z(augmented.dimension);
-  z.head(n) = y0;
-  Eigen::Map<Eigen::MatrixXd>(z.data() + n, n, n).setIdentity();
+  Eigen::VectorXd z = VariationalStart(y0);
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(n), half(n);
   LyapunovReport report;
   double t = t0;

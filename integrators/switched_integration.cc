@@ -8,6 +8,7 @@
 
 #include "integrators/detail/cvode_session.h"
 #include "integrators/detail/validation.h"
+#include "integrators/variational.h"
 
 namespace rmhb::integrators {
 namespace {
@@ -142,9 +143,7 @@ Eigen::MatrixXd SwitchedMonodromy(const SwitchedOdeSystem& system, const Eigen::
     }
     Eigen::Map<Eigen::MatrixXd>(zdot + n, n, n) = J * Eigen::Map<const Eigen::MatrixXd>(z + n, n, n);
   };
-  Eigen::VectorXd z0(n + n * n);
-  z0.head(n) = y0;
-  Eigen::Map<Eigen::MatrixXd>(z0.data() + n, n, n).setIdentity();
+  const Eigen::VectorXd z0 = VariationalStart(y0);
   const SwitchedIntegration r = IntegrateSwitched(augmented, z0, 0.0, {T}, options);
   if (!r.result.ok()) {
     if (failure) *failure = r.result.message;

@@ -36,4 +36,12 @@ OdeSystem VariationalSystem(const OdeSystem& system, const JacobianFunction& jac
   return augmented;
 }
 
+Eigen::VectorXd VariationalStart(const Eigen::VectorXd& y0) {
+  const long n = y0.size();
+  Eigen::VectorXd z(n + n * n);
+  z.head(n) = y0;
+  Eigen::Map<Eigen::MatrixXd>(z.data() + n, n, n).setIdentity();
+  return z;
+}
+
 }  // namespace rmhb::integrators

@@ -13,6 +13,8 @@
 
 #include <functional>
 
+#include <Eigen/Dense>
+
 #include "integrators/ode_system.h"
 
 namespace rmhb::integrators {
@@ -21,6 +23,9 @@ using JacobianFunction = std::function<void(double t, const double* y, double* j
 
 // `system` must outlive the returned one.
 OdeSystem VariationalSystem(const OdeSystem& system, const JacobianFunction& jacobian);
+
+// The variational state at the start: [y0, Phi = I].
+Eigen::VectorXd VariationalStart(const Eigen::VectorXd& y0);
 
 }  // namespace rmhb::integrators
 

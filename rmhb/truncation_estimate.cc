@@ -67,8 +67,12 @@ double FitDecay(const HarmonicBasis& basis, const std::vector<double>& size, int
     envelope[l] = std::max(envelope[l], size[k]);
   }
   for (int l = top - 1; l >= 0; --l) envelope[l] = std::max(envelope[l], envelope[l + 1]);
+  // Top levels at round-off are a parity's empty layer (the Duffing's even
+  // harmonics at an even order), not the decay: left out of the fit.
+  int last = top;
+  while (last > 1 && !(envelope[last] > 1e-14)) --last;
   double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
-  for (int l = std::max(1, top / 2); l <= top; ++l) {
+  for (int l = std::max(1, top / 2); l <= last; ++l) {
     if (!(envelope[l] > 0)) continue;
     const double y = std::log(envelope[l]);
     sx += l, sy += y, sxx += double(l) * l, sxy += l * y, n += 1;

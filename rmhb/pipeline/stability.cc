@@ -71,10 +71,15 @@ std::string StabilityOptions::IsValid() const {
   return neutral_band >= 0 && neutral_band < 1 ? "" : "neutral_band must be in [0, 1)";
 }
 
-StabilityVerdict MultiplierVerdict(const Multipliers& mu, int trivial, double band) {
+double LargestModulus(const Multipliers& mu, int trivial) {
   double largest = 0;
   for (size_t i = 0; i < mu.size(); ++i)
     if (static_cast<int>(i) != trivial) largest = std::max(largest, std::abs(mu[i]));
+  return largest;
+}
+
+StabilityVerdict MultiplierVerdict(const Multipliers& mu, int trivial, double band) {
+  const double largest = LargestModulus(mu, trivial);
   return largest < 1 - band ? StabilityVerdict::kStable
          : largest > 1 + band ? StabilityVerdict::kUnstable
                               : StabilityVerdict::kNeutral;
@@ -95,6 +100,15 @@ StabilitySummary Stability(const Model& model, const HarmonicSolution& solution,
   const bool floquet_ok = s.floquet && s.floquet->ok;
   if (s.hill && floquet_ok) s.max_multiplier_difference = MatchedDifference(s.hill->multipliers, s.floquet->multipliers);
   s.verdict = floquet_ok ? s.floquet_verdict : s.hill ? s.hill_verdict : StabilityVerdict::kUnknown;
+  s.neutral_band = options.neutral_band;
+  auto judge = [&s](const Multipliers& mu, int trivial, const char* by) {
+    s.largest_modulus = LargestModulus(mu, trivial);
+    s.judged_by = std::string(by) + (trivial >= 0 ? ", the trivial multiplier left out" : "");
+  };
+  if (floquet_ok)
+    judge(s.floquet->multipliers, s.floquet->trivial, "CVODE");
+  else if (s.hill)
+    judge(s.hill->multipliers, s.hill->trivial, "Hill");
   return s;
 }
 
@@ -136,7 +150,21 @@ std::string StabilitySummary::FullReport() const {
                   *max_multiplier_difference, agree() ? "agree" : "DISAGREE");
     out += text;
   }
-  return out + "stability    " + ToString(verdict) + "\n";
+  const std::string judged = Judged();
+  return out + "stability    " + ToString(verdict) + (judged.empty() ? "" : ": " + judged) + "\n";
+}
+
+// "largest |mu| 0.811038697498 < 1 - 1e-06 (CVODE)": the number the verdict
+// judged and the band it was judged against.
+std::string StabilitySummary::Judged() const {
+  if (judged_by.empty()) return "";
+  const char* relation = verdict == StabilityVerdict::kStable     ? "< 1 -"
+                         : verdict == StabilityVerdict::kUnstable ? "> 1 +"
+                                                                  : "within 1 -+";
+  char text[160];
+  std::snprintf(text, sizeof text, "largest |mu| %.12g %s %g (%s)", largest_modulus,
+                relation, neutral_band, judged_by.c_str());
+  return text;
 }
 
 nlohmann::json StabilitySummary::ToJson() const {
@@ -168,6 +196,8 @@ nlohmann::json StabilitySummary::ToJson() const {
     out["agree"] = agree();
   }
   out["verdict"] = ToString(verdict);
+  if (!judged_by.empty())
+    out["judged"] = {{"largest_modulus", largest_modulus}, {"neutral_band", neutral_band}, {"by", judged_by}};
   return out;
 }
 
@@ -176,7 +206,9 @@ std::string StabilitySummary::BriefReport() const {
   out << "stability: " << ToString(verdict) << " (Hill " << ToString(hill_verdict) << ", monodromy "
       << ToString(floquet_verdict);
   if (max_multiplier_difference) out << ", multipliers agree to " << *max_multiplier_difference;
-  out << ")\n";
+  out << ")";
+  if (const std::string judged = Judged(); !judged.empty()) out << "; " << judged;
+  out << "\n";
   return out.str();
 }
 

@@ -11,6 +11,7 @@
 // frequencies; monodromy: no original ODE) its note says why.
 
 #include <complex>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,12 +47,19 @@ struct StabilitySummary {
   // Both ran: the largest distance between matched multipliers.
   std::optional<double> max_multiplier_difference;
   StabilityVerdict verdict = StabilityVerdict::kUnknown;
+  // What the verdict judged: the largest |mu| (the trivial multiplier left
+  // out) of the method it came from (CVODE's when it ran, else Hill's),
+  // against 1 -+ neutral_band. NaN without a verdict.
+  double largest_modulus = std::numeric_limits<double>::quiet_NaN();
+  std::string judged_by;  // "CVODE" or "Hill" (", the trivial multiplier left out")
+  double neutral_band = 0;
 
   bool agree() const { return hill_verdict == floquet_verdict; }
   std::string BriefReport() const;
   // One line per method ("stability    Hill     stable   multipliers ..."),
   // their agreement and the verdict (rmhb solve --stability).
   std::string FullReport() const;
+  std::string Judged() const;  // the verdict's number and band, for the reports
   // {"hill": {...} | {"note"}, "floquet": {...} | {"note"},
   //  "max_multiplier_difference", "agree", "verdict"} (solve --json).
   nlohmann::json ToJson() const;
@@ -62,6 +70,9 @@ StabilitySummary Stability(const Model& model, const HarmonicSolution& solution,
 // The verdict of a set of multipliers, the trivial one (index, or -1) left out.
 StabilityVerdict MultiplierVerdict(const std::vector<std::complex<double>>& multipliers, int trivial,
                                    double neutral_band);
+// The largest |mu| with the trivial one (index, or -1) left out: what
+// MultiplierVerdict compares with 1 -+ neutral_band.
+double LargestModulus(const std::vector<std::complex<double>>& multipliers, int trivial);
 
 }  // namespace rmhb
 

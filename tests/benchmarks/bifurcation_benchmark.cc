@@ -186,8 +186,11 @@ void NlvibExample03(const std::string& name, int order, int samples, bool branch
 const std::string kUnilateral = std::string(RMHB_SOURCE_DIR) + "/tests/benchmarks/models/unilateral.yaml";
 
 // The branch at order N and M samples; every `stride`-th point as a line
-// "Om X" with X the PREVIOUS point's solution (the start both tools get).
-void UnilateralPoints(int order, int samples, int stride) {
+// "Om X" with X the PREVIOUS point's solution (the start both tools get),
+// or with `own`, the point's own solution on the branch (the start of the
+// refinement at higher orders, which thus exists also where the fixed-Omega
+// solve from the previous point fails: next to the turning points).
+void UnilateralPoints(int order, int samples, int stride, bool own) {
   const Model model = LoadModel(kUnilateral, {{"W", 0.8}});
   const ContinuationProblem problem =
       ModelContinuationProblem([](double W) { return LoadModel(kUnilateral, {{"W", W}}); }, "W", 0.8, 0.5);
@@ -198,7 +201,7 @@ void UnilateralPoints(int order, int samples, int stride) {
   const ContinuationSummary s = TraceBranch(problem, GuessAtOrder(model, order), options);
   const int x1 = model.problem.system.IndexOf("x1"), x2 = model.problem.system.IndexOf("x2");
   for (size_t i = stride; i < s.points.size(); i += stride) {
-    const Eigen::MatrixXd& c = s.points[i - 1].solution.coefficients();
+    const Eigen::MatrixXd& c = s.points[own ? i : i - 1].solution.coefficients();
     std::printf("%.17g", s.points[i].parameter);
     for (int k = 0; k < c.cols(); ++k) std::printf(" %.17g %.17g", c(x1, k), c(x2, k));
     std::printf("\n");
@@ -230,23 +233,28 @@ double AgainstCvode(const Model& here, const HarmonicSolution& s) {
 
 // Each point of `points` (UnilateralPoints) solved by rmhb from the same
 // start at the same N and M, timed (median), and both answers (NLvib's from
-// `nlvib`: "Om seconds flag X") against CVODE with the contact located.
-void UnilateralCompare(int order, int samples, const char* points, const char* nlvib) {
-  std::ifstream p(points), q(nlvib);
+// `nlvib`: "Om seconds flag X") against CVODE with the contact located; then
+// rmhb at higher orders from the branch's own point (`own`).
+void UnilateralCompare(int order, int samples, const char* points, const char* nlvib, const char* own) {
+  std::ifstream p(points), q(nlvib), o(own);
   std::printf("NLvib example 03 as written (max), H = N = %d harmonics, %d samples, both from the previous "
               "point's solution\n",
               order, samples);
-  std::printf("%-10s %-9s %-9s %-11s %-11s %-8s | rmhb at 4N: %-7s %-9s | at 16N: %-7s %-9s\n", "Omega",
-              "rmhb ms", "NLvib ms", "rmhb error", "NLvib error", "max|x1|", "ms", "error", "ms", "error");
-  std::string a, b;
-  while (std::getline(p, a) && std::getline(q, b)) {
-    std::istringstream pa(a), qb(b);
-    double W, Wn, nlvib_seconds, flag;
+  std::printf("%-10s %-9s %-9s %-11s %-11s %-8s | rmhb at 4N: %-7s %-9s | at 16N: %-7s %-9s | at 128N, Krylov: %-7s "
+              "%-9s\n",
+              "Omega", "rmhb ms", "NLvib ms", "rmhb error", "NLvib error", "max|x1|", "ms", "error", "ms", "error", "ms",
+              "error");
+  std::string a, b, c;
+  while (std::getline(p, a) && std::getline(q, b) && std::getline(o, c)) {
+    std::istringstream pa(a), qb(b), oc(c);
+    double W, Wn, Wo, nlvib_seconds, flag;
     pa >> W;
     qb >> Wn >> nlvib_seconds >> flag;
-    std::vector<double> start, theirs;
+    oc >> Wo;
+    std::vector<double> start, theirs, branch;
     for (double v; pa >> v;) start.push_back(v);
     for (double v; qb >> v;) theirs.push_back(v);
+    for (double v; oc >> v;) branch.push_back(v);
     const Model here = LoadModel(kUnilateral, {{"W", W}});
     HarmonicBalanceOptions options;
     options.order = order;
@@ -268,16 +276,18 @@ void UnilateralCompare(int order, int samples, const char* points, const char* n
       for (int i = 0; i < 200; ++i) amplitude = std::max(amplitude, std::abs(s.solution->Value(0, 0.0314 * i / W)));
     std::printf("%-10.6f %-9.2f %-9.2f %-11.2e %-11.2e %-8.4f", W, 1e3 * times[3], 1e3 * nlvib_seconds, mine, other,
                 amplitude);
-    // Higher orders from the same converged point, M = 32 (4N) and 32 (16N)
-    // rounded up to a power of two.
-    for (int factor : {4, 16}) {
+    // Higher orders from the branch's point, M = 32 x (4N, 16N,
+    // 128N) rounded up to a power of two; 128N (2688 harmonics, 10754
+    // unknowns) by Newton-Krylov, where a dense LU would need 0.9 GiB and
+    // minutes per factorisation.
+    for (int factor : {4, 16, 128}) {
       HarmonicBalanceOptions high;
       high.order = factor * order;
       high.samples = {NonSmoothSamples(factor * order, 32)};
       high.order_continuation = false;
+      if (factor > 16) high.solver.linear_solver = LinearSolver::kKrylov;
       const auto t0 = std::chrono::steady_clock::now();
-      const HarmonicBalanceSummary h =
-          s.usable() ? SolveHarmonicBalance(here.problem, *s.solution, high) : HarmonicBalanceSummary{};
+      const HarmonicBalanceSummary h = SolveHarmonicBalance(here.problem, FromNlvib(here, W, branch), high);
       const double seconds = Since(t0);
       std::printf(" | %-18.1f %-9.2e", 1e3 * seconds, h.usable() ? AgainstCvode(here, *h.solution) : HUGE_VAL);
     }
@@ -292,8 +302,10 @@ int main(int argc, char** argv) {
   if (what == "stability" || what == "all") StabilityCost();
   if (what == "nlvib" || what == "all") NlvibExample03("unilateral-smooth", 30, 0, true);
   // build/tests/benchmarks/bifurcation_benchmark unilateral [N] [M]
-  if (what == "unilateral-points") UnilateralPoints(std::atoi(argv[2]), std::atoi(argv[3]), std::atoi(argv[4]));
-  if (what == "unilateral-compare") UnilateralCompare(std::atoi(argv[2]), std::atoi(argv[3]), argv[4], argv[5]);
+  if (what == "unilateral-points")
+    UnilateralPoints(std::atoi(argv[2]), std::atoi(argv[3]), std::atoi(argv[4]), argc > 5 && std::string(argv[5]) == "own");
+  if (what == "unilateral-compare")
+    UnilateralCompare(std::atoi(argv[2]), std::atoi(argv[3]), argv[4], argv[5], argv[6]);
   if (what == "unilateral" || what == "all")
     NlvibExample03("unilateral", argc > 2 ? std::atoi(argv[2]) : 21, argc > 3 ? std::atoi(argv[3]) : 4096, false);
   return 0;

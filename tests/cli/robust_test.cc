@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <complex>
 #include <cstdio>
 #include <fstream>
@@ -86,6 +87,15 @@ TEST(CliRobust, StabilityOfTheThreeDuffingResponses) {
     EXPECT_TRUE(s["agree"].get<bool>());
     EXPECT_LT(s["max_multiplier_difference"].get<double>(), 1e-8) << s.dump();
     EXPECT_LT(s["floquet"]["closure_error"].get<double>(), 1e-9);
+    // The verdict says the number it judged: CVODE's largest |mu| (no
+    // trivial multiplier when forced) against 1 -+ the band.
+    const auto& mu = s["floquet"]["multipliers"];
+    const double largest = std::max(std::hypot(mu[0][0].get<double>(), mu[0][1].get<double>()),
+                                    std::hypot(mu[1][0].get<double>(), mu[1][1].get<double>()));
+    EXPECT_EQ(s["judged"]["by"], "CVODE") << s.dump();
+    EXPECT_DOUBLE_EQ(s["judged"]["largest_modulus"].get<double>(), largest);
+    EXPECT_EQ(s["judged"]["neutral_band"], 1e-6);
+    EXPECT_EQ(largest < 1, std::string(b.verdict) == "stable");
     for (const char* method : {"hill", "floquet"}) {
       const auto& mu = s[method]["multipliers"];
       ASSERT_EQ(mu.size(), 2u);
@@ -105,6 +115,8 @@ TEST(CliRobust, StabilitySaysWhereHillDoesNotApply) {
   EXPECT_NE(j["stability"]["hill"]["note"].get<std::string>().find("pinned"), std::string::npos);
   EXPECT_TRUE(j["stability"]["floquet"]["ok"].get<bool>());
   EXPECT_EQ(j["stability"]["verdict"], "neutral");
+  EXPECT_NEAR(j["stability"]["judged"]["largest_modulus"].get<double>(), 1, 1e-6);
+  EXPECT_EQ(j["stability"]["judged"]["by"], "CVODE, the trivial multiplier left out");
   // Quasi-periodic: neither applies, and it says so.
   j = Json("solve forced-vanderpol --stability --json");
   EXPECT_EQ(j["stability"]["verdict"], "unknown");
@@ -113,6 +125,8 @@ TEST(CliRobust, StabilitySaysWhereHillDoesNotApply) {
   const CliRun r = Cli("solve vanderpol --stability");
   EXPECT_EQ(r.code, 0);
   EXPECT_NE(r.out.find("stability    Hill     stable"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("stability    stable: largest |mu| "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" < 1 - 1e-06 (CVODE, the trivial multiplier left out)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("stability    CVODE    stable"), std::string::npos) << r.out;
 }
 
