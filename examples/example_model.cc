@@ -46,6 +46,8 @@ Model ExampleModel(const std::string& name, const std::map<std::string, double>&
   for (const auto& e : setup->problem.system.equations()) pins += e.balance_constant ? 0 : 1;
   p.num_user_conditions = static_cast<int>(setup->problem.conditions.size()) - pins;
   p.overrides = overrides;
+  for (const Parameter& parameter : FindExample(name)->parameters)
+    if (parameter.base >= 0) p.frequency_parameters[parameter.name] = parameter.base;
   p.reload = [name](const model::ParameterValues& values) { return ExampleModel(name, values); };
   DetectInvariances(&p);  // as LoadModel: the same symmetries for the same equations
   return p;

@@ -449,7 +449,7 @@ const std::vector<Example>& AllExamples() {
   static const std::vector<Example> examples = {
       {"duffing", "Forced Duffing oscillator", "x'' + c x' + k x + a x^3 = F cos(w t)",
        {{"c", 0.1, "damping"}, {"k", 1.0, "linear stiffness"}, {"a", 1.0, "cubic stiffness"},
-        {"F", 1.0, "forcing amplitude"}, {"w", 1.5, "forcing frequency"}},
+        {"F", 1.0, "forcing amplitude"}, {"w", 1.5, "forcing frequency", 0}},
        Duffing},
       {"vanderpol", "Free Van der Pol oscillator (limit cycle)", "x'' - eps (1 - x^2) x' + x = 0",
        {{"eps", 1.0, "nonlinear damping (relaxation for eps >> 1)"}},
@@ -464,7 +464,7 @@ const std::vector<Example>& AllExamples() {
        "R R'' = -3/2 R'^2 - A R'/R - B/R + C/R^3 + D - E cos(w t)",
        {{"A", 0.1, "viscous term"}, {"B", 1.0, "surface tension term"},
         {"C", 2.0, "gas pressure term"}, {"D", -1.0, "ambient pressure term"},
-        {"E", 0.2, "acoustic forcing amplitude"}, {"w", 2.0, "forcing frequency"}},
+        {"E", 0.2, "acoustic forcing amplitude"}, {"w", 2.0, "forcing frequency", 0}},
        RayleighPlesset},
       {"asym-pendulum", "Asymmetric spherical pendulum (quasi-periodic, two unknown bases)",
        "x'' + (1-k) x = -(1-k)(x x'^2 + x y'^2 + x y y'' + x^2 x''), "
@@ -479,7 +479,7 @@ const std::vector<Example>& AllExamples() {
        "x'' + c x' + k x + a x^3 = F1 cos(w1 t) + F2 cos(w2 t)",
        {{"c", 0.1, "damping"}, {"k", 2.0, "linear stiffness"}, {"a", 1.0, "cubic stiffness"},
         {"F1", 0.5, "first tone's amplitude"}, {"F2", 0.5, "second tone's amplitude"},
-        {"w1", 0.7, "first tone's frequency"}, {"w2", 1.1, "second tone's frequency"}},
+        {"w1", 0.7, "first tone's frequency", 0}, {"w2", 1.1, "second tone's frequency", 1}},
        DuffingTwoTone},
   };
   return examples;

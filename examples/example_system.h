@@ -25,6 +25,11 @@ struct Parameter {
   std::string name;
   double value;
   std::string meaning;
+  // >= 0: the parameter is base frequency `base` of the problem and enters
+  // it nowhere else (a forcing frequency): Model::frequency_parameters.
+  // Declared here (the recast is hand-written), checked by
+  // tests/pipeline/parameter_rebuild_test.cc.
+  int base = -1;
 };
 
 // y' = f(t, y) in the user's own variables, and how to read y(t) off a

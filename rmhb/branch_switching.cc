@@ -384,7 +384,7 @@ TorusStart TorusFromNeimarkSacker(const ContinuationProblem& problem, const Cont
   const Eigen::VectorXd v_fixed = CriticalMode(J, mask, &out.critical_mode_residual);
   const HarmonicSolution mode = Unpacked(probe, basis, v_fixed, embedded.variables());
 
-  ParameterizedResidual f(problem.parameter, build, ns.parameter, basis, sampling);
+  ParameterizedResidual f(problem.parameter, build, ns.parameter, basis, sampling, problem.only_frequencies_change);
   CollocationResidual* r = f.At(ns.parameter);
   const std::vector<double> zero(2, 0.0);
   const Eigen::VectorXd x_ns = r->Pack(embedded.coefficients(), embedded.frequencies());

@@ -90,7 +90,9 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
   proj_.resize(C_);
   coef_.resize(C_);
   rates_.resize(basis.size());
-  for (long t = 0; t < M_; ++t) sample_phase_.push_back(transform_->Phase({1}, t));
+  const std::vector<int> first_harmonic{1};
+  sample_phase_.resize(M_);
+  for (long t = 0; t < M_; ++t) sample_phase_[t] = transform_->Phase(first_harmonic, t);
   SetUpLinearAlgebra();
 }
 

@@ -626,7 +626,8 @@ ContinuationSummary TraceBranch(const ContinuationProblem& problem, const Harmon
   };
   ParameterizedResidual f(problem.parameter, found.empty() ? problem.build : build, problem.start,
                           solved.solution->basis(),
-                          bases == 1 ? Sampling::Uniform(solved.samples[0]) : Sampling::Torus(solved.samples));
+                          bases == 1 ? Sampling::Uniform(solved.samples[0]) : Sampling::Torus(solved.samples),
+                          problem.only_frequencies_change);
   const Eigen::VectorXd x0 =
       f.At(problem.start)->Pack(solved.solution->coefficients(), solved.solution->frequencies());
   Tracer tracer(problem, options, &f, first.system.variables(), &summary);
@@ -656,7 +657,8 @@ ContinuationSummary TraceBranchFrom(const ContinuationProblem& problem, double p
   summary.order = basis.order();
   summary.samples = samples;
   ParameterizedResidual f(problem.parameter, problem.build, parameter, basis,
-                          basis.num_bases() == 1 ? Sampling::Uniform(samples[0]) : Sampling::Torus(samples));
+                          basis.num_bases() == 1 ? Sampling::Uniform(samples[0]) : Sampling::Torus(samples),
+                          problem.only_frequencies_change);
   CollocationResidual* r = f.At(parameter);
   Eigen::VectorXd y0(f.n() + 1), t0(f.n() + 1);
   y0 << r->Pack(start.coefficients(), start.frequencies()), parameter;

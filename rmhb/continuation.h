@@ -72,6 +72,12 @@ struct ContinuationProblem {
   // value must give the same variables, equations, conditions, unknown
   // frequencies and symmetries.
   std::function<HarmonicBalanceProblem(double value)> build;
+  // Set when build(value) differs from build(start) in its base frequencies
+  // alone (the model has proved it: Model::frequency_parameters, a forcing
+  // frequency): the corrector's residuals are then built once and a new
+  // value only sets their frequencies (METHOD.md s.19), instead of a new
+  // residual at every value. A promise: nothing checks it.
+  bool only_frequencies_change = false;
   // Optional: the multipliers of the original equations at a point (see
   // MonodromyResult). Without it stability comes from Hill's method alone.
   MonodromyFunction monodromy;

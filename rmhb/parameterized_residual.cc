@@ -4,13 +4,14 @@
 #include <sstream>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 namespace rmhb {
 
 ParameterizedResidual::ParameterizedResidual(std::string parameter, Build build, double first,
-                                             HarmonicBasis basis, Sampling sampling)
-    : parameter_(std::move(parameter)), build_(std::move(build)), basis_(std::move(basis)),
-      sampling_(std::move(sampling)) {
+                                             HarmonicBasis basis, Sampling sampling, bool only_frequencies_change)
+    : parameter_(std::move(parameter)), build_(std::move(build)), only_frequencies_(only_frequencies_change),
+      basis_(std::move(basis)), sampling_(std::move(sampling)) {
   CollocationResidual* r = At(first);
   if (!r)
     throw std::invalid_argument("cannot build the problem at " + parameter_ + " = " + std::to_string(first) +
@@ -49,8 +50,32 @@ bool ParameterizedResidual::Evaluate(const Eigen::VectorXd& x, double lambda, Ei
   return false;
 }
 
+void ParameterizedResidual::Refuse(double lambda, const std::exception& e) {
+  // A value outside the model's domain: this step fails, the trace goes on.
+  std::ostringstream why;
+  why << "at " << parameter_ << " = " << lambda << ": " << e.what();
+  refusal_ = why.str();
+}
+
+CollocationResidual* ParameterizedResidual::Retune(Built* b, double lambda) {
+  b->lambda = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> frequencies;
+  try {
+    frequencies = build_(lambda).frequencies;
+  } catch (const std::exception& e) {
+    Refuse(lambda, e);
+    return nullptr;
+  }
+  if (frequencies.size() != b->problem->frequencies.size())
+    throw std::invalid_argument("the number of base frequencies changes with " + parameter_);
+  b->problem->frequencies = std::move(frequencies);
+  b->lambda = lambda;
+  return b->residual.get();
+}
+
 CollocationResidual* ParameterizedResidual::Get(Built* b, double lambda) {
   if (b->lambda == lambda) return b->residual.get();
+  if (only_frequencies_ && b->residual) return Retune(b, lambda);
   b->residual.reset();
   b->problem.reset();
   b->lambda = lambda;
@@ -58,10 +83,7 @@ CollocationResidual* ParameterizedResidual::Get(Built* b, double lambda) {
     b->problem = std::make_unique<HarmonicBalanceProblem>(build_(lambda));
     b->residual = std::make_unique<CollocationResidual>(*b->problem, basis_, sampling_);
   } catch (const std::exception& e) {
-    // A value outside the model's domain: this step fails, the trace goes on.
-    std::ostringstream why;
-    why << "at " << parameter_ << " = " << lambda << ": " << e.what();
-    refusal_ = why.str();
+    Refuse(lambda, e);
     b->residual.reset();
     return nullptr;
   }

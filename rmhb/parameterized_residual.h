@@ -30,13 +30,17 @@ namespace rmhb {
 
 // F(x, lambda), rebuilding the problem when lambda changes. Two builds are
 // kept: the current value and its finite-difference neighbour, so that a
-// Newton iteration costs two builds.
+// Newton iteration costs two builds. With `only_frequencies_change` (the
+// builder's promise that build(value) differs from build(first) in its base
+// frequencies alone, ContinuationProblem::only_frequencies_change) each of
+// the two residuals is built once, and a new value only sets the
+// frequencies of its problem from build(value) (METHOD.md s.19).
 class ParameterizedResidual {
  public:
   using Build = std::function<HarmonicBalanceProblem(double value)>;
   // Throws std::invalid_argument when the model refuses `first`.
   ParameterizedResidual(std::string parameter, Build build, double first, HarmonicBasis basis,
-                        Sampling sampling);
+                        Sampling sampling, bool only_frequencies_change = false);
 
   int n() const { return n_; }  // unknowns x
   int m() const { return m_; }  // residuals
@@ -66,9 +70,13 @@ class ParameterizedResidual {
     std::unique_ptr<CollocationResidual> residual;
   };
   CollocationResidual* Get(Built* b, double lambda);
+  // The frequencies of build(lambda) into b's problem (only_frequencies_).
+  CollocationResidual* Retune(Built* b, double lambda);
+  void Refuse(double lambda, const std::exception& e);
 
   std::string parameter_;
   Build build_;
+  bool only_frequencies_ = false;
   HarmonicBasis basis_;
   Sampling sampling_;
   int n_ = -1, m_ = -1;

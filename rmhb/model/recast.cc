@@ -47,8 +47,8 @@ struct SlotRef {
 
 class Recaster {
  public:
-  Recaster(const ModelDefinition& model, const ParameterValues& overrides)
-      : model_(model), s_(*model.symbolic) {
+  Recaster(const ModelDefinition& model, const ParameterValues& overrides, bool problem_only)
+      : model_(model), s_(*model.symbolic), problem_only_(problem_only) {
     values_ = model.ParameterValuesWith(overrides);
     bases_ = internal::EvaluateBases(model, values_);
     params_ = internal::ParameterSubstitution(s_, values_);
@@ -64,6 +64,7 @@ class Recaster {
     for (std::size_t i = 0; i < bases_.symbols.size(); ++i)
       if (bases_.unknown[i]) unknown_bases_.insert(bases_.symbols[i]);
     for (const auto& v : model.variables) taken_.insert(v);
+    base_value_used_.assign(bases_.symbols.size(), false);
   }
 
   RecastResult Run() {
@@ -179,10 +180,13 @@ class Recaster {
       });
     }
     source_ = -1;
-    BuildOriginalProblem(&result);
+    if (!problem_only_) BuildOriginalProblem(&result);
 
     // 5. Guess.
     BuildGuess(system, &result);
+    for (const auto& a : aux_) NoteBaseValues(a.definition, true);  // problem.definitions
+    result.frequency_parameters = FrequencyParameters();
+    if (problem_only_) return result;
 
     // 6. The original system for the integrators.
     try {
@@ -475,7 +479,7 @@ class Recaster {
     if ((name == "sin" || name == "cos") && FreeOfDynamic(arg)) {
       std::vector<int> k;
       ex phase;
-      if (internal::AnalyzeHarmonic(arg, s_.t, bases_, &k, &phase)) return f;  // forcing
+      if (Harmonic(arg, &k, &phase)) return f;  // forcing
       if (!arg.diff(s_.t).has(s_.t))  // linear in t, but not a harmonic
         Fail(internal::Print(f) + " is not a harmonic of the base frequencies: time may only "
              "appear as cos(k*w*t + phase), sin(k*w*t + phase) with integer k");
@@ -515,6 +519,43 @@ class Recaster {
     Fail("the function '" + name + "' cannot be recast", name);
   }
 
+  // ---- what `problem` uses of the base values ---------------------------------------
+  // A base symbol is never substituted by its value until an expression
+  // becomes a number (a coefficient, a condition, a pointwise equation, a
+  // definition), so noting it there says exactly which base values `problem`
+  // depends on beyond problem.frequencies. `time`: explicit t counts as every
+  // base (it becomes theta/w, or a forcing recognised at the known rates).
+  void NoteBaseValues(const ex& e, bool time) const {
+    if (!tracking_) return;
+    const bool all = time && e.has(s_.t);
+    for (std::size_t i = 0; i < bases_.symbols.size(); ++i)
+      if (all || e.has(bases_.symbols[i])) base_value_used_[i] = true;
+  }
+
+  // AnalyzeHarmonic, noting that the answer depends on every base value when
+  // it was decided numerically (cos(2*t) is the first harmonic at w = 2 only).
+  bool Harmonic(const ex& arg, std::vector<int>* k, ex* phase) const {
+    bool numeric = false;
+    const bool harmonic = internal::AnalyzeHarmonic(arg, s_.t, bases_, k, phase, &numeric);
+    if (numeric) NoteBaseValues(s_.t, true);
+    return harmonic;
+  }
+
+  // The parameters bound to a known base (`frequencies: [w]`) whose value
+  // `problem` uses nowhere else (METHOD.md s.19).
+  std::map<std::string, int> FrequencyParameters() const {
+    std::map<std::string, int> out;
+    for (int i = 0; i < model_.num_bases(); ++i) {
+      const std::string& name = model_.frequencies[i].parameter;
+      if (name.empty() || base_value_used_[i]) continue;
+      bool elsewhere = false;  // another base's value is an expression of it
+      for (int j = 0; j < model_.num_bases(); ++j)
+        elsewhere = elsewhere || (j != i && s_.frequency_values[j].has(s_.parameters.at(name)));
+      if (!elsewhere) out[name] = i;
+    }
+    return out;
+  }
+
   // ---- polynomial conversion ---------------------------------------------------------
   Polynomial Checked(Polynomial p) const {
     if (p.terms().size() > kMaxTerms)
@@ -534,6 +575,7 @@ class Recaster {
                                               "known frequency)")
                                 : std::string()),
              internal::Print(w));
+    NoteBaseValues(e, false);
     try {
       return internal::EvaluateConstant(e.subs(bases_.KnownValues()));
     } catch (const std::exception& err) {
@@ -576,8 +618,7 @@ class Recaster {
       const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
       std::vector<int> k;
       ex phase;
-      if ((name == "sin" || name == "cos") &&
-          internal::AnalyzeHarmonic(e.op(0), s_.t, bases_, &k, &phase)) {
+      if ((name == "sin" || name == "cos") && Harmonic(e.op(0), &k, &phase)) {
         // cos/sin of the phase symbolically first: cos(pi/2) is exactly 0.
         const double c = ConstantValue(GiNaC::cos(phase)), s = ConstantValue(GiNaC::sin(phase));
         if (name == "cos") return Polynomial::Cos(k, c) - Polynomial::Sin(k, s);
@@ -597,6 +638,12 @@ class Recaster {
   // The recast's chain variables and chain equations (its first ones), the
   // user equations as written, the user's conditions (on chain variables).
   void BuildOriginalProblem(RecastResult* result) const {
+    // Not `problem`: what it uses of the base values is not noted.
+    struct Untracked {
+      bool* tracking;
+      ~Untracked() { *tracking = true; }
+    } untracked{&tracking_};
+    tracking_ = false;
     const PolynomialSystem& full = result->problem.system;
     int num_chain_variables = 0, num_chain_equations = 0;
     for (int L : chain_) num_chain_variables += L, num_chain_equations += L - 1;
@@ -643,6 +690,8 @@ class Recaster {
   // coulomb term that is not a force added to the equation, a function the
   // tape does not know).
   std::string MakePointwise(int i, ex e, PointwiseEquation* pointwise) const {
+    NoteBaseValues(e, true);
+    if (internal::HasCoulomb(e)) NoteBaseValues(s_.t, true);  // its penalty uses w
     e = e.subs(bases_.KnownValues());
     bool unknown = false;
     for (bool u : bases_.unknown) unknown = unknown || u;
@@ -745,6 +794,7 @@ class Recaster {
     if (r.has(s_.t)) r = r.subs(s_.t == 0);
     for (const auto& w : unknown_bases_)
       if (r.has(w)) Fail("a condition cannot depend on the unknown base frequency '" + internal::Print(w) + "'");
+    NoteBaseValues(r, false);
     r = r.subs(bases_.KnownValues());
     // Inputs: the symbols present, mapped to z(0) or z'(0).
     std::vector<ex> inputs;
@@ -933,6 +983,7 @@ class Recaster {
 
   const ModelDefinition& model_;
   const SymbolicModel& s_;
+  const bool problem_only_;  // `problem`, its definitions and the guess only
   ParameterValues values_;
   internal::Bases bases_;
   GiNaC::exmap params_;
@@ -950,6 +1001,8 @@ class Recaster {
   int source_ = -1;
   int condition_ = -1;
   bool in_auxiliary_ = false;  // converting an auxiliary's equation
+  mutable bool tracking_ = true;  // noting base values for `problem`
+  mutable std::vector<bool> base_value_used_;  // per base, by `problem`
 };
 
 }  // namespace
@@ -1006,10 +1059,10 @@ std::string RecastResult::Report() const {
   return out.str();
 }
 
-RecastResult Recast(const ModelDefinition& model, const ParameterValues& overrides) {
+RecastResult Recast(const ModelDefinition& model, const ParameterValues& overrides, bool problem_only) {
   if (!model.symbolic) throw ModelError("Recast: the model was not parsed", {model.source, 0, 0});
   try {
-    Recaster recaster(model, overrides);
+    Recaster recaster(model, overrides, problem_only);
     return recaster.Run();
   } catch (const ModelError&) {
     throw;

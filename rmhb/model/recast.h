@@ -48,6 +48,7 @@
 // throw ModelError pointing at the equation concerned.
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -73,6 +74,16 @@ struct RecastResult {
   std::vector<std::string> definitions;
   int degree = 0;  // phi, PolynomialSystem::Degree()
   int num_user_conditions = 0;
+  // Parameter -> base index: the parameters a known base frequency is bound
+  // to (`frequencies: [w]`) whose value enters `problem` only as
+  // problem.frequencies[base] (METHOD.md s.19). Decided on the symbols: the
+  // recast keeps a base symbolic until an expression becomes a number, and
+  // no coefficient, condition, pointwise equation or auxiliary definition
+  // of `problem` contained it (nor explicit time, nor a forcing recognised
+  // numerically). Then Recast(model, overrides with another value v of
+  // it).problem is `problem` with frequencies[base] = v, to the last bit.
+  // (original_problem is not covered.)
+  std::map<std::string, int> frequency_parameters;
 
   // The model's equations as written, for harmonic balance without the
   // recast (HB-AFT, METHOD.md s.13): the user variables and their
@@ -123,7 +134,13 @@ struct RecastResult {
   std::string Report() const;
 };
 
-RecastResult Recast(const ModelDefinition& model, const ParameterValues& overrides = {});
+// `problem_only`: `problem` (with its definitions), the guess and
+// frequency_parameters alone, without original_problem, the original
+// system and initial_state (about half the work: their tapes), for callers
+// that rebuild the problem at many parameter values (continuation, METHOD.md
+// s.19). `problem` is the same as the full recast's; an initial_state the
+// model cannot evaluate at these values is then not an error.
+RecastResult Recast(const ModelDefinition& model, const ParameterValues& overrides = {}, bool problem_only = false);
 
 }  // namespace rmhb::model
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "rmhb/pipeline/monodromy.h"
@@ -18,24 +19,34 @@ using nlohmann::json;
 
 // `period_multiple` 2 on a period-doubled branch: its solution has base w/2
 // while the model's equations keep the forcing w; the reference and the
-// definitions are the period-T model's and are not checked there.
-BranchPointReport ReportPoint(const Model& model, const ContinueOptions& o, const ContinuationSummary& branch,
-                              const ContinuationPoint& p, int period_multiple = 1) {
+// definitions are the period-T model's and are not checked there. The
+// definitions come from the trace's problem (`problem`, the period-T one),
+// which needs no rebuild of the model; the whole model at the point is
+// rebuilt only for what needs it (a reference, validation, a torus).
+BranchPointReport ReportPoint(const Model& model, const ContinueOptions& o, const ContinuationProblem& problem,
+                              const ContinuationSummary& branch, const ContinuationPoint& p, int period_multiple = 1) {
   BranchPointReport r;
   r.peak = PeakValue(p.solution);
   r.stability = ToString(p.stability);
-  const Model here = WithParameters(model, {{o.parameter, p.parameter}});
+  std::optional<Model> rebuilt;
+  auto here_model = [&]() -> const Model& {
+    if (!rebuilt) rebuilt = WithParameters(model, {{o.parameter, p.parameter}});
+    return *rebuilt;
+  };
   if (period_multiple == 1) {
-    if (here.problem.definitions)
-      r.definitions = CheckDefinitions(p.solution, here.problem.definitions, branch.samples);
-    const ReferenceErrors errors = ErrorsAgainst(here.reference, p.solution);
-    r.frequency_error = errors.frequency;
-    r.amplitude_error = errors.amplitude;
+    const HarmonicBalanceProblem here = problem.build(p.parameter);
+    if (here.definitions) r.definitions = CheckDefinitions(p.solution, here.definitions, branch.samples);
+    if (model.reference.has_frequency() || model.reference.has_amplitude()) {
+      const ReferenceErrors errors = ErrorsAgainst(here_model().reference, p.solution);
+      r.frequency_error = errors.frequency;
+      r.amplitude_error = errors.amplitude;
+    }
   }
   if (o.validate) {
     const auto& w = p.solution.frequencies();
     const double t_end = o.validate_periods * 2 * M_PI / *std::min_element(w.begin(), w.end());
     integrators::ValidationReport v;
+    const Model& here = here_model();
     if (period_multiple == 1) {
       v = ValidateOriginal(here, p.solution, t_end, 401);
     } else {
@@ -51,7 +62,7 @@ BranchPointReport ReportPoint(const Model& model, const ContinueOptions& o, cons
     r.outermost = OutermostCoefficients(p.solution);
     r.ratio = p.solution.frequencies()[1] / p.solution.frequencies()[0];
     if (o.stability) {
-      r.lyapunov = TorusStability(here, p.solution, o.torus_stability);
+      r.lyapunov = TorusStability(here_model(), p.solution, o.torus_stability);
       r.stability = ToString(r.lyapunov->stability);
     }
   }
@@ -96,7 +107,7 @@ void SwitchBranches(const Model& model, const ContinueOptions& o, const Continua
         d.branch = TraceDoubledBranch(problem, s, bif, options);
         if (d.branch.branch)
           for (const ContinuationPoint& p : d.branch.branch->points)
-            d.reports.push_back(ReportPoint(model, o, *d.branch.branch, p, 2));
+            d.reports.push_back(ReportPoint(model, o, problem, *d.branch.branch, p, 2));
       }
       b->doubled.push_back(std::move(d));
     }
@@ -565,7 +576,7 @@ void TraceModelBranch(const Model& model, const ContinueOptions& o, Continuation
       AppendStretch(std::move(s), &b->continuation);
     const ContinuationSummary& c = b->continuation;
     for (size_t i = before; i < c.points.size(); ++i) {
-      b->reports.push_back(ReportPoint(model, o, c, c.points[i]));
+      b->reports.push_back(ReportPoint(model, o, problem, c, c.points[i]));
       b->reports.back().segment = stretch;
     }
     // A torus' stability is its Lyapunov exponents (the report's), not the
@@ -605,9 +616,7 @@ BranchSummary ContinueModel(const Model& model, const HarmonicSolution& guess, c
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(std::string("at the end of the range: ") + e.what());
   }
-  const ContinuationProblem problem = ModelContinuationProblem(
-      [&model, name = o.parameter](double value) { return WithParameters(model, {{name, value}}); }, o.parameter,
-      o.from, o.to);
+  const ContinuationProblem problem = ModelContinuationProblem(model, o.parameter, o.from, o.to);
   const ContinuationOptions options = TraceOptions(o);
   // The first point from the automatic start, so that a model file without
   // a guess can be traced.

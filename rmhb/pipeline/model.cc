@@ -81,10 +81,11 @@ void ChooseEquations(const std::shared_ptr<model::RecastResult>& recast, Equatio
                         " auxiliaries";
 }
 
-}  // namespace
-
-Model LoadModel(const std::string& path, const std::map<std::string, double>& overrides, EquationsRoute route) {
-  const model::ModelDefinition definition = model::LoadModelFile(path);
+// The model from its parsed file: `reload` recasts the same definition with
+// other values, never reading or parsing the file again.
+Model ModelFromDefinition(const std::shared_ptr<const model::ModelDefinition>& parsed,
+                          const std::map<std::string, double>& overrides, EquationsRoute route) {
+  const model::ModelDefinition& definition = *parsed;
   auto recast = std::make_shared<model::RecastResult>(model::Recast(definition, overrides));
   Model p;
   p.name = recast->model_name;
@@ -147,25 +148,39 @@ Model LoadModel(const std::string& path, const std::map<std::string, double>& ov
       p.initial_state = p.state(p.guess(p.default_order), 0.0);
   }
   p.num_user_conditions = recast->num_user_conditions;
-  p.definition = std::make_shared<const model::ModelDefinition>(definition);
+  p.definition = parsed;
   p.overrides = overrides;
-  p.reload = [path, route](const model::ParameterValues& values) { return LoadModel(path, values, route); };
+  p.reload = [parsed, route](const model::ParameterValues& values) {
+    return ModelFromDefinition(parsed, values, route);
+  };
+  if (route == EquationsRoute::kRecast)
+    p.reload_problem = [parsed](const model::ParameterValues& values) {
+      return model::Recast(*parsed, values, true).problem;
+    };
   ChooseEquations(recast, route, &p);
+  if (p.equations == "recast") p.frequency_parameters = recast->frequency_parameters;
   DetectInvariances(&p);
   return p;
 }
 
-Model WithParameters(const Model& model, const model::ParameterValues& values) {
+}  // namespace
+
+Model LoadModel(const std::string& path, const std::map<std::string, double>& overrides, EquationsRoute route) {
+  return ModelFromDefinition(std::make_shared<const model::ModelDefinition>(model::LoadModelFile(path)), overrides,
+                             route);
+}
+
+namespace {
+
+model::ParameterValues AllOverrides(const Model& model, const model::ParameterValues& values) {
   if (!model.reload) throw std::invalid_argument("the model '" + model.name + "' cannot be rebuilt with other parameters");
   model::ParameterValues all = model.overrides;
   for (const auto& [name, value] : values) all[name] = value;
-  Model out = model.reload(all);
-  if (!model.frequency_settings.empty()) SetFrequencies(model.frequency_settings, &out);
-  return out;
+  return all;
 }
 
-void SetFrequencies(const std::string& text, Model* model) {
-  HarmonicBalanceProblem* problem = &model->problem;
+// SetFrequencies on the problem alone.
+void SetProblemFrequencies(const std::string& text, HarmonicBalanceProblem* problem) {
   const int bases = static_cast<int>(problem->frequencies.size());
   std::vector<std::string> items;
   std::string item;
@@ -184,6 +199,25 @@ void SetFrequencies(const std::string& text, Model* model) {
     problem->frequencies[b] = w;
     if (unknown) problem->unknown_frequency[b] = true;
   }
+}
+
+}  // namespace
+
+Model WithParameters(const Model& model, const model::ParameterValues& values) {
+  Model out = model.reload(AllOverrides(model, values));
+  if (!model.frequency_settings.empty()) SetFrequencies(model.frequency_settings, &out);
+  return out;
+}
+
+HarmonicBalanceProblem ProblemWithParameters(const Model& model, const model::ParameterValues& values) {
+  if (!model.reload_problem) return WithParameters(model, values).problem;
+  HarmonicBalanceProblem problem = model.reload_problem(AllOverrides(model, values));
+  if (!model.frequency_settings.empty()) SetProblemFrequencies(model.frequency_settings, &problem);
+  return problem;
+}
+
+void SetFrequencies(const std::string& text, Model* model) {
+  SetProblemFrequencies(text, &model->problem);
   model->frequency_settings = text;
 }
 

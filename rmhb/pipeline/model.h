@@ -77,8 +77,22 @@ struct Model {
   // (examples/example_model.h), empty for a hand-made model. Continuation
   // and sweeps rebuild the model through it (WithParameters).
   std::function<Model(const model::ParameterValues& overrides)> reload;
+  // reload(overrides).problem (before frequency settings) without the rest
+  // of the model, where that is cheaper: a model file on the recast route
+  // recasts the problem alone (model::Recast's problem_only). Empty: use
+  // reload. ProblemWithParameters uses it.
+  std::function<HarmonicBalanceProblem(const model::ParameterValues& overrides)> reload_problem;
   // The base frequencies set by SetFrequencies, re-applied by WithParameters.
   std::string frequency_settings;
+  // Parameter -> base index: the parameters that enter `problem` only as
+  // problem.frequencies[base] (a forcing frequency), so that WithParameters
+  // changing one of them changes nothing else in `problem`. A model file's
+  // are proved on its recast (model::RecastResult::frequency_parameters; on
+  // the recast route only), a built-in example's are declared with its
+  // parameters (examples/example_system.h, checked by its test). A
+  // continuation in one of them sets the frequency instead of rebuilding
+  // the model at every value (ModelContinuationProblem, METHOD.md s.19).
+  std::map<std::string, int> frequency_parameters;
   // The equations `problem` holds: "recast" or "original" (LoadModel's
   // route), and why kAuto chose them or kOriginal was not possible.
   std::string equations = "recast";
@@ -93,6 +107,10 @@ struct Model {
 // rebuilt (no `reload`) or an unknown parameter, model::ModelError for a
 // model file's errors.
 Model WithParameters(const Model& model, const model::ParameterValues& values);
+// WithParameters(model, values).problem, through Model::reload_problem when
+// the model has one (continuation rebuilds the problem ~11 times per point
+// and needs nothing else there). Throws as WithParameters.
+HarmonicBalanceProblem ProblemWithParameters(const Model& model, const model::ParameterValues& values);
 
 // "w1,?w2": the values of known base frequencies and the guesses of unknown
 // ones ('?' makes a base unknown), one per base, each > 0. Throws

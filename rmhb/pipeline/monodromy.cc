@@ -19,26 +19,29 @@
 namespace rmhb {
 namespace {
 
-// Models by parameter value, the most recent first (a handful: the
-// corrector's value and its finite-difference neighbour, the point's).
-class ModelCache {
+// Models (or problems) by parameter value, the most recent first (a
+// handful: the corrector's value and its finite-difference neighbour, the
+// point's).
+template <typename T>
+class ValueCache {
  public:
-  explicit ModelCache(std::function<Model(double)> model_at) : model_at_(std::move(model_at)) {}
-  std::shared_ptr<const Model> At(double value) {
+  explicit ValueCache(std::function<T(double)> make) : make_(std::move(make)) {}
+  std::shared_ptr<const T> At(double value) {
     std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& [v, m] : models_)
+    for (const auto& [v, m] : values_)
       if (v == value) return m;
-    auto model = std::make_shared<const Model>(model_at_(value));
-    models_.emplace_front(value, model);
-    if (models_.size() > 4) models_.pop_back();
-    return model;
+    auto made = std::make_shared<const T>(make_(value));
+    values_.emplace_front(value, made);
+    if (values_.size() > 4) values_.pop_back();
+    return made;
   }
 
  private:
-  std::function<Model(double)> model_at_;
-  std::deque<std::pair<double, std::shared_ptr<const Model>>> models_;
+  std::function<T(double)> make_;
+  std::deque<std::pair<double, std::shared_ptr<const T>>> values_;
   std::mutex mutex_;
 };
+using ModelCache = ValueCache<Model>;
 
 // d/dt of the original state along the solution at t = 0.
 Eigen::VectorXd Flow(const Model& model, const HarmonicSolution& solution) {
@@ -137,6 +140,37 @@ ContinuationProblem ModelContinuationProblem(std::function<Model(double)> model_
   problem.monodromy = [cache, options](double value, const HarmonicSolution& solution, int period_multiple) {
     return ModelMonodromy(*cache->At(value), solution, period_multiple, options);
   };
+  return problem;
+}
+
+ContinuationProblem ModelContinuationProblem(const Model& model, const std::string& parameter, double start,
+                                             double end, const ModelMonodromyOptions& options) {
+  auto base = std::make_shared<const Model>(model);
+  ContinuationProblem problem = ModelContinuationProblem(
+      [base, parameter](double value) { return WithParameters(*base, {{parameter, value}}); }, parameter, start, end,
+      options);
+  // The problem alone where the model can rebuild it alone (the monodromy
+  // keeps whole models).
+  if (model.reload_problem) {
+    auto problems = std::make_shared<ValueCache<HarmonicBalanceProblem>>(
+        [base, parameter](double value) { return ProblemWithParameters(*base, {{parameter, value}}); });
+    problem.build = [problems](double value) { return *problems->At(value); };
+  }
+  const auto bound = model.frequency_parameters.find(parameter);
+  if (bound == model.frequency_parameters.end() || !model.frequency_settings.empty()) return problem;
+  HarmonicBalanceProblem first;
+  try {
+    first = problem.build(start);
+  } catch (const std::exception&) {
+    return problem;  // the trace reports it
+  }
+  problem.build = [first = std::move(first), base = bound->second, full = problem.build](double value) {
+    if (!(value > 0) || !std::isfinite(value)) return full(value);  // the model's refusal, as it words it
+    HarmonicBalanceProblem p = first;
+    p.frequencies[base] = value;
+    return p;
+  };
+  problem.only_frequencies_change = true;
   return problem;
 }
 

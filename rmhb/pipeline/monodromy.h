@@ -47,6 +47,15 @@ MonodromyResult ModelMonodromy(const Model& model, const HarmonicSolution& solut
 // corrector made there (a model file's recast is the expensive part).
 ContinuationProblem ModelContinuationProblem(std::function<Model(double value)> model_at, std::string parameter,
                                              double start, double end, const ModelMonodromyOptions& options = {});
+// The same on WithParameters(model, {{parameter, value}}) (the model is
+// copied); build() takes ProblemWithParameters (a model file's problem
+// alone, without its original equations' tapes). When the model has proved that `parameter` enters its problem
+// only as a base frequency (Model::frequency_parameters; no --frequencies
+// setting), build(value) is the problem at `start` with that frequency set
+// to the value, without rebuilding the model, and only_frequencies_change is
+// set (METHOD.md s.19); a value <= 0 is still the model's to refuse.
+ContinuationProblem ModelContinuationProblem(const Model& model, const std::string& parameter, double start,
+                                             double end, const ModelMonodromyOptions& options = {});
 
 // A torus of a one-base model (rmhb/branch_switching.h: bases {w, w2}, the
 // forcing on w) against a trajectory of the original equations from its

@@ -211,6 +211,8 @@ Model LockedModel(const Model& model, const Resonance& lock) {
   out.guess = nullptr;
   out.default_order = order * std::max(lock.p, lock.q);
   out.reload = nullptr;
+  out.reload_problem = nullptr;
+  out.frequency_parameters.clear();
   out.reference = {};
   out.invariances.clear();
   return out;

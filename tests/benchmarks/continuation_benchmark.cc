@@ -20,27 +20,28 @@
 #include <string>
 #include <vector>
 
+#include "examples/example_model.h"
 #include "examples/example_system.h"
 #include "examples/references.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/continuation.h"
+#include "rmhb/pipeline/monodromy.h"
 
 using namespace rmhb;
 
 namespace {
 
+// The trace as a program makes it from a model (rmhb/pipeline/monodromy.h):
+// a forcing frequency is only set at each value, another parameter rebuilds
+// the example (METHOD.md s.19). Stability by the harmonic balance
+// linearisation or Hill's method, as before: no CVODE monodromy.
 ContinuationSummary Trace(const std::string& example, std::map<std::string, double> fixed,
                           const std::string& parameter, double from, double to,
                           ContinuationMethod method, int order, double* seconds) {
-  ContinuationProblem problem;
-  problem.parameter = parameter;
-  problem.start = from;
-  problem.end = to;
-  problem.build = [=](double value) mutable {
-    fixed[parameter] = value;
-    return examples::BuildExample(example, fixed).problem;
-  };
   fixed[parameter] = from;
+  ContinuationProblem problem =
+      ModelContinuationProblem(examples::ExampleModel(example, fixed), parameter, from, to);
+  problem.monodromy = nullptr;
   const HarmonicSolution guess = examples::BuildExample(example, fixed).guess;
   ContinuationOptions options;
   options.method = method;

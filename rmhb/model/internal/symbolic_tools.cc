@@ -62,7 +62,7 @@ Bases EvaluateBases(const ModelDefinition& model, const ParameterValues& values)
 }
 
 bool AnalyzeHarmonic(const ex& arg, const GiNaC::symbol& t, const Bases& bases,
-                     std::vector<int>* k, ex* phase) {
+                     std::vector<int>* k, ex* phase, bool* numeric) {
   if (!arg.has(t)) return false;
   const ex rate = arg.diff(t);
   if (rate.has(t)) return false;
@@ -86,6 +86,7 @@ bool AnalyzeHarmonic(const ex& arg, const GiNaC::symbol& t, const Bases& bases,
   }
   if (symbolic && rest.expand().is_zero()) return true;
   // Numerically, against the known base values.
+  if (numeric) *numeric = true;
   for (int i = 0; i < d; ++i)
     if (bases.unknown[i] && rate.has(bases.symbols[i])) return false;
   double value;

@@ -32,8 +32,10 @@ Bases EvaluateBases(const ModelDefinition& model, const ParameterValues& values)
 
 // Whether arg = k.w t + phase with integer k: k from the base symbols, or
 // numerically from the known base values. phase must not contain t.
+// `numeric` (optional) is set when the answer came from the base values
+// (then it depends on them), left alone otherwise.
 bool AnalyzeHarmonic(const GiNaC::ex& arg, const GiNaC::symbol& t, const Bases& bases,
-                     std::vector<int>* k, GiNaC::ex* phase);
+                     std::vector<int>* k, GiNaC::ex* phase, bool* numeric = nullptr);
 
 // A deterministic, readable form of e: operands of sums and products sorted
 // by their own printed form (GiNaC orders them by hash values, which depend
