@@ -85,6 +85,13 @@ DenseLu& DenseLu::compute(Eigen::MatrixXd&& A) {
   singular_ = false;
   // dgecon needs the 1-norm of A itself, before it is overwritten.
   norm_ = n ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0;
+  use_small_ = n > 0 && n <= kMaxEigenLuDimension;
+  if (use_small_) {
+    // A is left to the caller (its storage is reused for the next matrix).
+    small_.compute(A);
+    singular_ = (small_.matrixLU().diagonal().array() == 0).any();
+    return *this;
+  }
   lu_ = std::move(A);
   if (n == 0) return *this;
   PinThreads(n);
@@ -98,13 +105,14 @@ DenseLu& DenseLu::compute(Eigen::MatrixXd&& A) {
 double DenseLu::rcond() const {
   if (rcond_ >= 0) return rcond_;
   rcond_ = 0;
-  const int n = static_cast<int>(lu_.rows());
+  const Eigen::MatrixXd& lu = use_small_ ? small_.matrixLU() : lu_;
+  const int n = static_cast<int>(lu.rows());
   if (n == 0 || singular_ || !std::isfinite(norm_)) return rcond_;
   std::vector<double> work(4 * static_cast<std::size_t>(n));
   std::vector<int> iwork(n);
   int info = 0;
   PinThreads(n);
-  dgecon_("1", &n, lu_.data(), &n, &norm_, &rcond_, work.data(), iwork.data(), &info, 1);
+  dgecon_("1", &n, lu.data(), &n, &norm_, &rcond_, work.data(), iwork.data(), &info, 1);
   if (info != 0) rcond_ = 0;
   return rcond_;
 }
@@ -114,11 +122,12 @@ Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const { return Solve(b,
 Eigen::VectorXd DenseLu::solve_transposed(const Eigen::VectorXd& b) const { return Solve(b, "T"); }
 
 Eigen::VectorXd DenseLu::Solve(const Eigen::VectorXd& b, const char* trans) const {
-  const int n = static_cast<int>(lu_.rows());
+  const int n = static_cast<int>(use_small_ ? small_.matrixLU().rows() : lu_.rows());
   if (b.size() != n)
     throw std::invalid_argument("DenseLu::solve: right-hand side of size " +
                                 std::to_string(b.size()) + " for a matrix of " + std::to_string(n));
   if (singular_) return NotANumber(n);
+  if (use_small_) return trans[0] == 'N' ? Eigen::VectorXd(small_.solve(b)) : Eigen::VectorXd(small_.transpose().solve(b));
   Eigen::VectorXd x = b;
   if (n == 0) return x;
   PinThreads(n);

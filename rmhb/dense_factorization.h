@@ -35,6 +35,15 @@ namespace rmhb {
 // loaded machine costs as much as it saves.
 constexpr int kMinThreadedDimension = 500;
 
+// Square matrices up to this size are factorised by Eigen's unblocked
+// PartialPivLU in storage kept from one factorisation to the next, and
+// solved by its triangular solves: at these sizes OpenBLAS's dgetrf/dgetrs
+// spend more in call overhead and thread pinning than in arithmetic (14
+// unknowns, the Monte Carlo's Duffing at N = 3: ~1.6 k instructions per
+// dgetrs, more than the solve's 400 flops). The 1-norm condition estimate
+// is LAPACK's dgecon on the same packed L\U either way.
+constexpr int kMaxEigenLuDimension = 64;
+
 // Threads for factorisations of kMinThreadedDimension columns and more;
 // 0 (the default) leaves OpenBLAS's own choice. Process-wide, like
 // OpenBLAS's setting; throws std::invalid_argument when negative.
@@ -61,6 +70,8 @@ class DenseLu {
  private:
   Eigen::MatrixXd lu_;
   std::vector<int> pivots_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> small_;  // n <= kMaxEigenLuDimension
+  bool use_small_ = false;
   Eigen::VectorXd Solve(const Eigen::VectorXd& b, const char* trans) const;
 
   mutable double rcond_ = 0;  // -1: not estimated yet

@@ -350,13 +350,20 @@ class NewtonFactorization {
   DenseQr qr_;
 };
 
-// (J'J + D) dx = -J'F through a Cholesky factorisation; D diagonal.
-Eigen::VectorXd RegularizedStep(const Eigen::MatrixXd& JtJ, const Eigen::VectorXd& JtF,
-                                const Eigen::VectorXd& diagonal) {
-  Eigen::MatrixXd A = JtJ;
-  A.diagonal() += diagonal;
-  Eigen::LDLT<Eigen::MatrixXd> ldlt(A);
-  return -ldlt.solve(JtF);
+// (J'J + D) dx = -J'F through a Cholesky factorisation; D diagonal. The
+// matrix and the factorisation live in `work`, kept across the attempts and
+// iterations of a solve (no allocation per attempt).
+struct RegularizedWork {
+  Eigen::MatrixXd A;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt;
+};
+void RegularizedStep(const Eigen::MatrixXd& JtJ, const Eigen::VectorXd& JtF,
+                     const Eigen::VectorXd& diagonal, RegularizedWork* work, Eigen::VectorXd* y) {
+  work->A = JtJ;
+  work->A.diagonal() += diagonal;
+  work->ldlt.compute(work->A);
+  *y = work->ldlt.solve(JtF);
+  *y = -*y;
 }
 
 SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
@@ -653,6 +660,12 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         << " iterations (" << ToString(method) << "), " << residual_text();
     return finish(SolverStatus::kNoConvergence, msg.str());
   };
+  // The regularised methods' matrices and vectors, kept across iterations.
+  struct {
+    Eigen::MatrixXd Js, JtJ;
+    Eigen::VectorXd Fs, JtF, y, diagonal;
+    RegularizedWork work;
+  } lm;
   double step = 0;  // max|D_c^-1 dx| of the last step
   double best_residual = s.initial_residual;  // max|F|, for newton_stall_iterations
   int since_best = 0;
@@ -754,21 +767,23 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
       const Eigen::VectorXd weights = s.num_residuals == s.num_unknowns
                                           ? scaling.row
                                           : Eigen::VectorXd::Ones(s.num_residuals);
-      const Eigen::MatrixXd Js = weights.asDiagonal() * J.dense() * scaling.column.asDiagonal();
-      const Eigen::VectorXd Fs = weights.cwiseProduct(F);
-      const Eigen::MatrixXd JtJ = Js.transpose() * Js;
-      const Eigen::VectorXd JtF = Js.transpose() * Fs;
-      const double F_squared = Fs.squaredNorm();
-      Eigen::VectorXd y;
+      // Into storage kept across iterations: no allocation per iteration.
+      lm.Js.noalias() = weights.asDiagonal() * J.dense() * scaling.column.asDiagonal();
+      lm.Fs = weights.cwiseProduct(F);
+      lm.JtJ.noalias() = lm.Js.transpose() * lm.Js;
+      lm.JtF.noalias() = lm.Js.transpose() * lm.Fs;
+      const Eigen::MatrixXd& JtJ = lm.JtJ;
+      const double F_squared = lm.Fs.squaredNorm();
+      Eigen::VectorXd& y = lm.y;
       for (int attempt = 0; attempt < 30 && !accepted; ++attempt) {
-        Eigen::VectorXd diagonal;
+        Eigen::VectorXd& diagonal = lm.diagonal;
         if (method == SolverMethod::kLevenbergMarquardt) {
           diagonal = lambda * JtJ.diagonal().cwiseMax(1e-300);
         } else {
           diagonal = Eigen::VectorXd::Constant(s.num_unknowns,
                                                options.tikhonov_factor * std::sqrt(F_squared) * lambda / options.initial_lambda);
         }
-        y = RegularizedStep(JtJ, JtF, diagonal);
+        RegularizedStep(JtJ, lm.JtF, diagonal, &lm.work, &y);
         dx = scaling.column.cwiseProduct(y);
         if (Finite(dx)) {
           xtrial = *x + dx;

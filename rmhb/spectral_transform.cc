@@ -198,6 +198,11 @@ long SpectralTransform::HalfIndex(const int* r) const {
 }
 
 std::complex<double> SpectralTransform::SpectrumAt(const int* g) const {
+  if (dims_ == 1) {
+    // One angle: one reduction, not two (a Jacobian block asks for dozens).
+    const int M = sampling_.grid[0], r = Mod(g[0], M);
+    return r <= M / 2 ? analysed_[r] : std::conj(analysed_[r == 0 ? 0 : M - r]);
+  }
   int r[3], n[3];
   for (int d = 0; d < dims_; ++d) {
     r[d] = Mod(g[d], sampling_.grid[d]);
