@@ -42,7 +42,11 @@ constexpr int kMinThreadedDimension = 500;
 // unknowns, the Monte Carlo's Duffing at N = 3: ~1.6 k instructions per
 // dgetrs, more than the solve's 400 flops). The 1-norm condition estimate
 // is LAPACK's dgecon on the same packed L\U either way.
-constexpr int kMaxEigenLuDimension = 64;
+// Not above 32: at 33-64 neither is clearly faster (measured with
+// dense_factorization_benchmark), and at 61 unknowns the different last bits
+// moved the SI-unit MEMS Duffing's CVODE validation error from 1.6e-13 to
+// 1.9e-12 (tests/cli/scaling_test.cc).
+constexpr int kMaxEigenLuDimension = 32;
 
 // Threads for factorisations of kMinThreadedDimension columns and more;
 // 0 (the default) leaves OpenBLAS's own choice. Process-wide, like

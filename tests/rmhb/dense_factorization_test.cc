@@ -29,30 +29,45 @@ TEST(DenseLu, SolvesToTheExactSolution) {
   }
 }
 
+// Both paths: Eigen's small-matrix LU (n <= kMaxEigenLuDimension) and LAPACK's.
 TEST(DenseLu, TransposedSolveAndMovedMatrixGiveTheExactSolution) {
-  const int n = 120;
-  const Eigen::MatrixXd A = WellConditioned(n, n, 5);
-  const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, 2.0, -1.0);
+  for (int n : {14, kMaxEigenLuDimension + 56}) {
+    const Eigen::MatrixXd A = WellConditioned(n, n, 5);
+    const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, 2.0, -1.0);
+    DenseLu lu;
+    lu.compute(Eigen::MatrixXd(A));  // factorised in the moved storage (LAPACK) or a kept copy
+    EXPECT_LT((lu.solve_transposed(A.transpose() * exact) - exact).cwiseAbs().maxCoeff(), 1e-13) << n;
+    EXPECT_LT((lu.solve(A * exact) - exact).cwiseAbs().maxCoeff(), 1e-13) << n;
+    EXPECT_THROW(lu.solve_transposed(Eigen::VectorXd::Ones(n + 1)), std::invalid_argument);
+  }
+}
+
+// A factorisation switching between the paths keeps answering for the last matrix.
+TEST(DenseLu, SmallAfterLargeAndBackSolveTheLastMatrix) {
   DenseLu lu;
-  lu.compute(Eigen::MatrixXd(A));  // factorised in the moved storage
-  EXPECT_LT((lu.solve_transposed(A.transpose() * exact) - exact).cwiseAbs().maxCoeff(), 1e-13);
-  EXPECT_LT((lu.solve(A * exact) - exact).cwiseAbs().maxCoeff(), 1e-13);
-  EXPECT_THROW(lu.solve_transposed(Eigen::VectorXd::Ones(n + 1)), std::invalid_argument);
+  for (int n : {kMaxEigenLuDimension + 16, 9, kMaxEigenLuDimension + 1, kMaxEigenLuDimension}) {
+    const Eigen::MatrixXd A = WellConditioned(n, n, 7 + n);
+    const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, -1.0, 3.0);
+    lu.compute(A);
+    EXPECT_LT((lu.solve(A * exact) - exact).cwiseAbs().maxCoeff(), 1e-13) << n;
+    EXPECT_GT(lu.rcond(), 0) << n;
+  }
 }
 
 // dgecon estimates 1/(|A|_1 |A^-1|_1); Hager's estimator is exact or close
 // on such matrices, never above the truth.
 TEST(DenseLu, ConditionEstimateMatchesTheExplicitInverse) {
-  for (double scale : {1.0, 1e-6}) {
-    Eigen::MatrixXd A = WellConditioned(80, 80, 11);
-    A.col(5) *= scale;  // ill-conditioned by a factor ~1/scale
-    const double exact = 1 / (A.cwiseAbs().colwise().sum().maxCoeff() *
-                              A.inverse().cwiseAbs().colwise().sum().maxCoeff());
-    DenseLu lu;
-    lu.compute(A);
-    EXPECT_GE(lu.rcond(), 0.999 * exact) << scale;
-    EXPECT_LE(lu.rcond(), 3 * exact) << scale;
-  }
+  for (double scale : {1.0, 1e-6})
+    for (int n : {20, 80}) {  // Eigen's LU, then LAPACK's: dgecon on either's factors
+      Eigen::MatrixXd A = WellConditioned(n, n, 11);
+      A.col(5) *= scale;  // ill-conditioned by a factor ~1/scale
+      const double exact = 1 / (A.cwiseAbs().colwise().sum().maxCoeff() *
+                                A.inverse().cwiseAbs().colwise().sum().maxCoeff());
+      DenseLu lu;
+      lu.compute(A);
+      EXPECT_GE(lu.rcond(), 0.999 * exact) << scale << " " << n;
+      EXPECT_LE(lu.rcond(), 3 * exact) << scale << " " << n;
+    }
 }
 
 TEST(DenseLu, ExactlySingularGivesNaNAndZeroCondition) {
