@@ -71,8 +71,9 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
       ->check(CLI::IsMember({"auto", "hill", "monodromy", "hb-monodromy"}))
       ->each([a](const std::string&) { a->stability_method_given = true; });
   app->add_option("--torus-tail", a->torus_tail,
-                  "Continuation of a quasi-periodic model: stop the torus where its outermost coefficients "
-                  "exceed this fraction of the solution (default 1e-6: the basis no longer resolves it)")
+                  "Continuation of a quasi-periodic model: where the torus' outermost coefficients exceed this "
+                  "fraction of the solution (default 1e-6: the basis no longer resolves it), enrich the adaptive "
+                  "index set there and go on, or stop on a fixed basis (--p)")
       ->check(CLI::PositiveNumber)
       ->each([a](const std::string&) { a->torus_tail_given = true; });
   app->add_flag("--no-locking", a->no_locking,

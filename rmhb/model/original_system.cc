@@ -315,8 +315,10 @@ OriginalSystem BuildOriginalSystem(const ModelDefinition& model, const Parameter
                            std::to_string(i + 1),
                        model.equations[i].where);
     }
-    equations.back().find(internal::coulomb(GiNaC::wild(0), GiNaC::wild(1), GiNaC::wild(2)), coulomb_terms);
   }
+  internal::ShareCoulombTerms(&equations);  // coulomb(-v, Fn) is -coulomb(v, Fn): one force
+  for (const ex& e : equations)
+    e.find(internal::coulomb(GiNaC::wild(0), GiNaC::wild(1), GiNaC::wild(2)), coulomb_terms);
   std::vector<GiNaC::symbol> forces;
   std::vector<ex> coulomb_outputs, fn, velocity, gradient;
   GiNaC::exmap to_forces, no_forces;

@@ -87,6 +87,7 @@ class Recaster {
       });
     }
     source_ = -1;
+    internal::ShareCoulombTerms(&user);  // one friction force between two bodies
 
     // 2. Lay out the variables: user chains, then auxiliaries.
     PolynomialSystem& system = result.problem.system;
@@ -124,7 +125,7 @@ class Recaster {
       source_ = static_cast<int>(i);
       if (nonsmooth[i]) {
         PointwiseEquation pointwise;
-        const std::string error = MakePointwise(static_cast<int>(i), user[i], &pointwise);
+        const std::string error = MakePointwise(static_cast<int>(i), user[i], user, &pointwise);
         if (!error.empty()) Fail(error);
         system.AddPointwiseEquation(std::move(pointwise));
         continue;
@@ -654,8 +655,11 @@ class Recaster {
     for (int j = 0; j < num_chain_variables; ++j)
       p.system.AddVariable(full.variables()[j].name, VariableRole::kState, full.variables()[j].definition);
     for (int i = 0; i < num_chain_equations; ++i) p.system.AddEquation(full.equations()[i].lhs);
+    std::vector<ex> all;
+    for (const ex& equation : s_.equations) all.push_back(Substituted(equation).subs(bases_.KnownValues()));
+    internal::ShareCoulombTerms(&all);
     for (std::size_t i = 0; i < s_.equations.size(); ++i) {
-      const ex e = Substituted(s_.equations[i]).subs(bases_.KnownValues());
+      const ex& e = all[i];
       const std::string where = "equation " + std::to_string(i + 1);
       for (const auto& w : unknown_bases_)
         if (e.has(w)) return void(result->original_problem_error = where + " contains the unknown frequency");
@@ -663,7 +667,7 @@ class Recaster {
         return void(result->original_problem_error =
                         where + " has explicit time with " + (several ? "several base frequencies" : "an unknown frequency"));
       PointwiseEquation pointwise;
-      const std::string error = MakePointwise(static_cast<int>(i), e, &pointwise);
+      const std::string error = MakePointwise(static_cast<int>(i), e, all, &pointwise);
       if (!error.empty()) return void(result->original_problem_error = where + ": " + error);
       p.system.AddPointwiseEquation(std::move(pointwise));
     }
@@ -689,9 +693,20 @@ class Recaster {
   // when it cannot be (explicit time with an unknown or several bases, a
   // coulomb term that is not a force added to the equation, a function the
   // tape does not know).
-  std::string MakePointwise(int i, ex e, PointwiseEquation* pointwise) const {
+  std::string MakePointwise(int i, ex e, const std::vector<ex>& all, PointwiseEquation* pointwise) const {
     NoteBaseValues(e, true);
     if (internal::HasCoulomb(e)) NoteBaseValues(s_.t, true);  // its penalty uses w
+    // The equation whose rest sets a shared friction force (the first that
+    // holds the term: DynamicLagrangian).
+    ex owner = e;
+    if (internal::HasCoulomb(e)) {
+      GiNaC::exset terms;
+      e.find(internal::coulomb(GiNaC::wild(0), GiNaC::wild(1), GiNaC::wild(2)), terms);
+      const int first = terms.size() == 1 ? internal::CoulombOwner(all, *terms.begin()) : -1;
+      if (first >= 0) owner = all[first];
+      NoteBaseValues(owner, true);
+    }
+    owner = owner.subs(bases_.KnownValues());
     e = e.subs(bases_.KnownValues());
     bool unknown = false;
     for (bool u : bases_.unknown) unknown = unknown || u;
@@ -702,7 +717,7 @@ class Recaster {
       if (e.has(w)) return "the unknown frequency appears outside forcing terms";
     if (internal::HasCoulomb(e)) {
       try {
-        e = internal::DynamicLagrangian(e, LagrangianPenalty(e));
+        e = internal::DynamicLagrangian(e, owner, LagrangianPenalty(owner));
       } catch (const std::invalid_argument& err) {
         return err.what();
       }

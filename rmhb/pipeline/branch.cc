@@ -357,6 +357,7 @@ namespace {
 
 // Tori (METHOD.md s.18): the trace stops where the basis given no longer
 // resolves the torus (its outermost coefficients exceed the tolerance).
+constexpr const char* kUnresolved = "the basis no longer resolves the torus";
 std::function<std::string(const ContinuationPoint&)> TailWatch(double tolerance) {
   return [tolerance](const ContinuationPoint& p) -> std::string {
     const double tail = OutermostCoefficients(p.solution);
@@ -364,9 +365,9 @@ std::function<std::string(const ContinuationPoint&)> TailWatch(double tolerance)
     const auto& w = p.solution.frequencies();
     char text[300];
     std::snprintf(text, sizeof text,
-                  "the outermost coefficients reach %.2e of the solution (> tail tolerance %.1e): the basis no "
-                  "longer resolves the torus (w2/w1 = %.10g)",
-                  tail, tolerance, w[1] / w[0]);
+                  "the outermost coefficients reach %.2e of the solution (> tail tolerance %.1e): %s (w2/w1 = "
+                  "%.10g)",
+                  tail, tolerance, kUnresolved, w[1] / w[0]);
     return text;
   };
 }
@@ -560,9 +561,26 @@ void AppendStretch(ContinuationSummary stretch, ContinuationSummary* branch) {
 
 namespace {
 
+// The torus at `last`'s parameter on the adaptive index set enriched from
+// `last` (SelectIndexSet starts from its set), when its outermost
+// coefficients are then within the tail tolerance; nullopt otherwise or
+// when the trace is not on the adaptive set.
+std::optional<HarmonicSolution> Enriched(const Model& model, const ContinueOptions& o, const ContinuationPoint& last) {
+  const HarmonicBalanceOptions& h = o.harmonic_balance;
+  if (h.shape != BasisShape::kAdaptive || !(h.tolerance > 0)) return std::nullopt;
+  const Model here = WithParameters(model, {{o.parameter, last.parameter}});
+  const HarmonicBalanceSummary s = SolveHarmonicBalance(here.problem, last.solution, h);
+  if (!s.usable() || s.solution->basis().size() <= last.solution.basis().size() ||
+      OutermostCoefficients(*s.solution) > o.tail_tolerance)
+    return std::nullopt;
+  return s.solution;
+}
+
 // The branch, and its reports. A torus' trace stops where the basis no
-// longer resolves it; a forced one is then taken across the locking tongue
-// (CrossTongue) and traced on past it, stretch by stretch.
+// longer resolves it; on the adaptive index set the set is enriched there
+// and the trace goes on (Enriched); otherwise a forced torus is taken across
+// the locking tongue (CrossTongue) and traced on past it, stretch by
+// stretch.
 void TraceModelBranch(const Model& model, const ContinueOptions& o, ContinuationProblem problem,
                       const ContinuationOptions& options, HarmonicSolution first, BranchSummary* b) {
   const bool torus = b->bases > 1;
@@ -583,6 +601,19 @@ void TraceModelBranch(const Model& model, const ContinueOptions& o, Continuation
     // Floquet multipliers the trace looks for.
     if (torus && o.stability) b->continuation.stability_note.clear();
     const bool stopped = c.status == ContinuationStatus::kStopped || c.status == ContinuationStatus::kStepTooSmall;
+    if (torus && stopped && c.message.find(kUnresolved) != std::string::npos &&
+        static_cast<int>(b->enrichments.size()) < o.max_enrichments) {
+      if (std::optional<HarmonicSolution> richer = Enriched(model, o, c.points.back())) {
+        b->enrichments.push_back({c.points.back().parameter, c.points.back().solution.basis().size(),
+                                  richer->basis().size()});
+        // The richer solution replaces the last point: the next stretch starts on it.
+        b->continuation.points.pop_back();
+        b->reports.pop_back();
+        problem.start = b->enrichments.back().parameter;
+        first = *richer;
+        continue;
+      }
+    }
     if (!torus || !stopped || !o.locking || !IsForcedTorus(model) || stretch >= o.max_tongues ||
         c.points.size() - before < 2)
       return;
@@ -661,8 +692,8 @@ std::string TorusLines(const ContinuationSummary& c, const std::vector<BranchPoi
     trivial = std::max(trivial, r.lyapunov->trivial_max);
   }
   char text[500];
-  std::snprintf(text, sizeof text, "tori: outermost coefficients at most %.2e of the solution (order %d)\n", worst,
-                c.order);
+  std::snprintf(text, sizeof text, "tori: outermost coefficients at most %.2e of the solution (first order %d)\n",
+                worst, c.order);
   std::string out = text;
   if (computed > 0) {
     std::snprintf(text, sizeof text,
@@ -712,6 +743,12 @@ std::string BranchSummary::FullReport(bool table) const {
   if (!continuation.message.empty()) out += continuation.message + "\n";
   out += StabilityLines(continuation, true);
   out += TorusLines(continuation, reports);
+  for (const Enrichment& e : enrichments) {
+    char text[200];
+    std::snprintf(text, sizeof text, "tori: index set enriched at %s = %.10g (%d -> %d harmonics)\n",
+                  continuation.parameter.c_str(), e.parameter, e.before, e.after);
+    out += text;
+  }
   if (table) out += Table(continuation, reports, validated, has_reference);
   for (const TongueReport& t : tongues) {
     out += "\n" + t.Describe(continuation.parameter) + "\n";
@@ -781,6 +818,10 @@ json BranchSummary::ToJson() const {
     json t = json::array();
     for (const TongueReport& tongue : tongues) t.push_back(TongueJson(tongue));
     out["tongues"] = t;
+    json e = json::array();
+    for (const Enrichment& enrichment : enrichments)
+      e.push_back({{"parameter", enrichment.parameter}, {"before", enrichment.before}, {"after", enrichment.after}});
+    out["enrichments"] = e;
   }
   if (!switched) return out;
   json doubled_json = json::array(), tori_json = json::array();

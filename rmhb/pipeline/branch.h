@@ -65,6 +65,10 @@ struct ContinueOptions {
   // torus stops where they exceed tail_tolerance: the basis given no longer
   // resolves it. Its stability: Lyapunov exponents (TorusStability).
   double tail_tolerance = 1e-6;
+  // On the adaptive index set (a target, no fixed shape), a torus stopped
+  // there is solved again at that point with the set enriched from its
+  // solution (METHOD.md s.8) and traced on, at most this many times.
+  int max_enrichments = 4;
   TorusStabilityOptions torus_stability;
   // A forced torus that stops near w2/w1 = p/q (q <= max_denominator) is
   // taken across the locking tongue: the periodic orbit of base w1/q is
@@ -152,6 +156,13 @@ struct BranchSummary {
   std::vector<DoubledBranchReport> doubled;
   std::vector<TorusReport> tori;
   std::vector<TongueReport> tongues;  // a forced torus' locking tongues
+  // Where a torus' index set was enriched: the parameter and the set's size
+  // (harmonics) before and after.
+  struct Enrichment {
+    double parameter;
+    int before, after;
+  };
+  std::vector<Enrichment> enrichments;
   bool switch_failed() const;
 
   std::string BriefReport() const;  // the continuation's line

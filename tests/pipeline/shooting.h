@@ -5,7 +5,8 @@
 // the periodic orbit of a model's original equations by shooting (Newton on
 // phi_T(y) - y with the CVODE monodromy matrix, rtol 1e-12), its Floquet
 // multipliers, and the parameter where one crosses the unit circle by the
-// secant method on them. Used by tests/pipeline/branch_test.cc and
+// secant method on them; for a model with switches (max, ...) the
+// integration locates them by root finding. Used by tests/pipeline/branch_test.cc and
 // tests/benchmarks/bifurcation_benchmark.cc.
 
 #include <cmath>
@@ -16,6 +17,7 @@
 
 #include "integrators/cvode_integrator.h"
 #include "integrators/floquet.h"
+#include "integrators/switched_integration.h"
 #include "rmhb/pipeline/model.h"
 
 namespace rmhb::testing {
@@ -25,23 +27,46 @@ struct Orbit {
   std::vector<std::complex<double>> mu;    // Floquet multipliers
 };
 
+// phi_T(y) and the monodromy matrix of the model's original equations
+// forced at w; with switches (max, min, abs, ...) located by root finding
+// (IntegrateSwitched, SwitchedMonodromy: exact for continuous forces). false
+// when the integration fails.
+inline bool FlowAndMonodromy(const Model& model, double w, const Eigen::VectorXd& y, double T, Eigen::VectorXd* end,
+                             Eigen::MatrixXd* monodromy) {
+  integrators::IntegratorOptions tight;  // Adams, rtol 1e-12
+  if (model.original_switched) {
+    const integrators::SwitchedOdeSystem ode = model.original_switched({w});
+    const integrators::SwitchedIntegration r = integrators::IntegrateSwitched(ode, y, 0.0, {T}, tight);
+    if (!r.result.ok()) return false;
+    *end = r.result.trajectory.states.row(0).transpose();
+    std::string failure;
+    *monodromy = integrators::SwitchedMonodromy(ode, y, T, tight, &failure);
+    return failure.empty() && monodromy->size() > 0;
+  }
+  const integrators::OdeSystem ode = model.original({w});
+  const integrators::IntegrationResult r = integrators::IntegrateOde(ode, y, 0.0, {T}, tight);
+  if (!r.ok()) return false;
+  *end = r.trajectory.states.row(0).transpose();
+  *monodromy = integrators::FloquetMultipliers(ode, y, 0.0, T).monodromy;
+  return true;
+}
+
 // The orbit of period multiple * 2 pi / w of the model's original equations
 // forced at w, by Newton on phi_T(y) - y from y.
 inline Orbit Shoot(const Model& model, double w, Eigen::VectorXd y, int multiple = 1) {
-  const integrators::OdeSystem ode = model.original({w});
   const double T = multiple * 2 * M_PI / w;
-  integrators::IntegratorOptions tight;  // Adams, rtol 1e-12
+  Eigen::VectorXd end;
+  Eigen::MatrixXd monodromy;
   for (int it = 0; it < 30; ++it) {
-    const integrators::IntegrationResult r = integrators::IntegrateOde(ode, y, 0.0, {T}, tight);
-    if (!r.ok()) return {y, {}};
-    const Eigen::VectorXd end = r.trajectory.states.row(0).transpose();
-    const integrators::FloquetReport f = integrators::FloquetMultipliers(ode, y, 0.0, T);
-    const Eigen::MatrixXd A = f.monodromy - Eigen::MatrixXd::Identity(y.size(), y.size());
+    if (!FlowAndMonodromy(model, w, y, T, &end, &monodromy)) return {y, {}};
+    const Eigen::MatrixXd A = monodromy - Eigen::MatrixXd::Identity(y.size(), y.size());
     const Eigen::VectorXd step = A.partialPivLu().solve(end - y);
     y -= step;
     if (step.norm() <= 1e-13 * (1 + y.norm())) break;
   }
-  return {y, integrators::FloquetMultipliers(ode, y, 0.0, T).multipliers};
+  if (!FlowAndMonodromy(model, w, y, T, &end, &monodromy)) return {y, {}};
+  const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(monodromy, false).eigenvalues();
+  return {y, std::vector<std::complex<double>>(mu.data(), mu.data() + mu.size())};
 }
 
 // Signed distance from the crossing: the real multiplier nearest -1 (mu + 1)
@@ -72,6 +97,7 @@ inline double ReferenceCrossing(const Model& model, double a, double b, bool per
   if (!(ga * gb < 0)) return NAN;  // no crossing in [a, b]
   for (int it = 0; it < 30 && std::abs(b - a) > 1e-13; ++it) {
     const double c = b - gb * (b - a) / (gb - ga);
+    if (!std::isfinite(c)) return NAN;  // an orbit lost on the way (no multipliers)
     const Orbit oc = Shoot(model, c, ob.y);
     a = b, ga = gb, b = c, gb = Distance(oc.mu, period_doubling), ob = oc;
   }

@@ -20,6 +20,8 @@
 // replaces it by the dynamic Lagrangian of its equation (DynamicLagrangian),
 // the integrators by a stick phase.
 
+#include <vector>
+
 #include <ginac/ginac.h>
 
 namespace rmhb::model::internal {
@@ -50,7 +52,21 @@ GiNaC::ex Clamp(const GiNaC::ex& x, const GiNaC::ex& lo, const GiNaC::ex& hi);
 // Coulomb force). Throws std::invalid_argument (the message says why) when
 // the coulomb term is not linear in e or appears more than once.
 // `automatic_eps` is used when the term's own eps is 0.
-GiNaC::ex DynamicLagrangian(const GiNaC::ex& e, const GiNaC::ex& automatic_eps);
+//
+// A friction force between two bodies enters two equations (with opposite
+// signs) and is one force: `owner` is the first equation that holds the
+// same coulomb term (e itself when e is), and lambda_u comes from it, so
+// every equation holding the term sees the same lambda. Stuck, the owner
+// then says v = 0 and the others e0_i - (c_i / c_owner) e0_owner = 0 (for
+// two masses: the sum of their equations, the stuck pair's dynamics).
+GiNaC::ex DynamicLagrangian(const GiNaC::ex& e, const GiNaC::ex& owner, const GiNaC::ex& automatic_eps);
+
+// The coulomb terms of `equations` shared: coulomb(-v, Fn) is rewritten
+// -coulomb(v, Fn) where coulomb(v, Fn) appeared first (the force is odd in
+// v), so that the two sides of one contact name one term.
+void ShareCoulombTerms(std::vector<GiNaC::ex>* equations);
+// The first of `equations` holding `term` (a coulomb() call).
+int CoulombOwner(const std::vector<GiNaC::ex>& equations, const GiNaC::ex& term);
 
 }  // namespace rmhb::model::internal
 
