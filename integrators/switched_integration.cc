@@ -94,6 +94,7 @@ SwitchedIntegration IntegrateSwitched(const SwitchedOdeSystem& system, const Eig
           if (found[k] != 0)
             modes[k] = static_cast<signed char>(system.next_mode ? system.next_mode(t, y.data(), k, found[k], before.data())
                                                                  : (found[k] > 0 ? 1 : -1));
+        if (system.at_switch) system.at_switch(t, y.data(), before.data(), modes.data());
         crossed = true;
         if (++out.events > max_events) {
           ok = false;
@@ -115,6 +116,45 @@ SwitchedIntegration IntegrateSwitched(const SwitchedOdeSystem& system, const Eig
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
+
+namespace {
+
+// The saltation matrix of the crossing at (t, y) from the modes `before` to
+// `after` (SwitchedMonodromy): each switch that changed, in turn; a grazing
+// crossing (grad g . f- + g_t ~ 0) has none (the identity is kept).
+Eigen::MatrixXd Saltation(const SwitchedOdeSystem& system, double t, const Eigen::VectorXd& y,
+                          const signed char* before, const signed char* after) {
+  const int n = system.dimension, m = system.num_switches;
+  Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n);
+  std::vector<signed char> modes(before, before + m);
+  Eigen::VectorXd f_before(n), f_after(n), g(m), gp(m), gm(m), scratch(n);
+  for (int k = 0; k < m; ++k) {
+    if (before[k] == after[k]) continue;
+    system.rhs(t, y.data(), modes.data(), f_before.data(), g.data());
+    Eigen::VectorXd grad(n), x = y;
+    for (int j = 0; j < n; ++j) {
+      const double h = 6e-6 * (1 + std::abs(x(j)));
+      const double saved = x(j);
+      x(j) = saved + h;
+      system.rhs(t, x.data(), modes.data(), scratch.data(), gp.data());
+      x(j) = saved - h;
+      system.rhs(t, x.data(), modes.data(), scratch.data(), gm.data());
+      x(j) = saved;
+      grad(j) = (gp(k) - gm(k)) / (2 * h);
+    }
+    const double ht = 6e-6 * (1 + std::abs(t));
+    system.rhs(t + ht, y.data(), modes.data(), scratch.data(), gp.data());
+    system.rhs(t - ht, y.data(), modes.data(), scratch.data(), gm.data());
+    const double rate = grad.dot(f_before) + (gp(k) - gm(k)) / (2 * ht);
+    modes[k] = after[k];
+    system.rhs(t, y.data(), modes.data(), f_after.data(), nullptr);
+    if (!(std::abs(rate) > 1e-12 * (1 + grad.norm() * f_before.norm()))) continue;
+    S = (Eigen::MatrixXd::Identity(n, n) + (f_after - f_before) * grad.transpose() / rate) * S;
+  }
+  return S;
+}
+
+}  // namespace
 
 Eigen::MatrixXd SwitchedMonodromy(const SwitchedOdeSystem& system, const Eigen::VectorXd& y0, double T,
                                   const IntegratorOptions& options, std::string* failure) {
@@ -142,6 +182,10 @@ Eigen::MatrixXd SwitchedMonodromy(const SwitchedOdeSystem& system, const Eigen::
       J.col(j) = (fp - fm) / (2 * h);
     }
     Eigen::Map<Eigen::MatrixXd>(zdot + n, n, n) = J * Eigen::Map<const Eigen::MatrixXd>(z + n, n, n);
+  };
+  augmented.at_switch = [&system, n](double t, double* z, const signed char* before, const signed char* after) {
+    Eigen::Map<Eigen::MatrixXd> phi(z + n, n, n);
+    phi = Saltation(system, t, Eigen::Map<const Eigen::VectorXd>(z, n), before, after) * phi;
   };
   const Eigen::VectorXd z0 = VariationalStart(y0);
   const SwitchedIntegration r = IntegrateSwitched(augmented, z0, 0.0, {T}, options);

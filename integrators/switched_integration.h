@@ -36,6 +36,10 @@ struct SwitchedOdeSystem {
   // either way or stick). Empty: the crossing's direction, the argument's
   // side at the start.
   std::function<int(double t, const double* y, int k, int direction, const signed char* modes)> next_mode;
+  // Optional: called at a crossing once the modes have changed (before:
+  // the modes up to it), may change the state there (SwitchedMonodromy:
+  // the saltation of the variational part).
+  std::function<void(double t, double* y, const signed char* before, const signed char* after)> at_switch;
 };
 
 struct SwitchedIntegration {
@@ -61,11 +65,14 @@ ValidationReport ValidateSwitchedTrajectory(const SwitchedOdeSystem& system,
 
 // The monodromy matrix of the orbit from (0, y0) over [0, T]: y with its
 // variational equations Phi' = f_y Phi, f_y by central differences on the
-// frozen branch, integrated by IntegrateSwitched. Exact for switches across
-// which f is continuous (ramp: max, min, abs, clamp: the saltation matrix is
-// the identity); a jump of f (sign, heaviside, Coulomb) needs a saltation
-// matrix this does not apply. Empty with `failure` set when the integration
-// fails.
+// frozen branch, integrated by IntegrateSwitched. At each crossing of switch
+// k, Phi jumps by the saltation matrix (METHOD.md s.15)
+//   S = I + (f+ - f-) grad g_k^T / (grad g_k . f- + dg_k/dt),
+// f-+ the field before and after, g_k its argument (gradients by central
+// differences): the identity where f is continuous (max, min, abs, clamp),
+// the jump's effect for sign, heaviside and Coulomb (sliding into a stick
+// phase included: f+ is then the stuck field). Empty with `failure` set when
+// the integration fails.
 Eigen::MatrixXd SwitchedMonodromy(const SwitchedOdeSystem& system, const Eigen::VectorXd& y0, double T,
                                   const IntegratorOptions& options, std::string* failure);
 

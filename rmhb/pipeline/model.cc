@@ -113,7 +113,7 @@ Model ModelFromDefinition(const std::shared_ptr<const model::ModelDefinition>& p
       p.original_switched = [recast](const std::vector<double>& w) {
         model::OriginalSystem bound = *recast->original;
         bound.BindFrequencies(w);
-        return integrators::SwitchedOdeSystem{bound.dimension, bound.num_switches, bound.switched_rhs, bound.next_mode};
+        return integrators::SwitchedOdeSystem{bound.dimension, bound.num_switches, bound.switched_rhs, bound.next_mode, nullptr};
       };
   }
   if (recast->original) {
