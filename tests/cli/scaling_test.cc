@@ -72,12 +72,13 @@ TEST(CliScaling, SiSolutionMatchesCvodeToItsOwnRelativeAccuracy) {
   // 1.9e-12 and 1.1e-13 with Eigen's (DenseLu below kMaxEigenLuDimension,
   // the coarse orders), while the coefficients stayed 3.5e-16 / 4.1e-16
   // (equilibrated) and 7.0e-14 / 7.1e-14 (unscaled) from the nondimensional
-  // solve. So both are held to CVODE's accuracy, 1e-10 of the velocity; the
+  // solve; the ASan (RelWithDebInfo) build measured 2.3e-12 equilibrated. So
+  // both are held to CVODE's accuracy with room, 5e-10 of the velocity; the
   // test above is the one that tells the scalings apart.
-  EXPECT_LT(scaled["validation"]["max_error"].get<double>(), 4e-2 * 1e-10);
+  EXPECT_LT(scaled["validation"]["max_error"].get<double>(), 4e-2 * 5e-10);
   const json none = Json(args + " --scaling none");
   ASSERT_EQ(none["validation"]["status"], "ok") << none.dump();
-  EXPECT_LT(none["validation"]["max_error"].get<double>(), 4e-2 * 1e-10);
+  EXPECT_LT(none["validation"]["max_error"].get<double>(), 4e-2 * 5e-10);
 }
 
 TEST(CliScaling, TextReportAndBadValues) {
