@@ -151,6 +151,10 @@ double LargestResidual(const Model& model, const std::string& parameter, const B
   return largest;
 }
 
+// Two traces of one branch by different code paths: the same points to
+// round-off carried along the arclength.
+constexpr double kSameBranch = 1e-9;
+
 TEST(ContinueModel, AFileInItsForcingFrequencyIsTheRebuiltBranchAndTheBuiltInOne) {
   const Model file = LoadModel(WriteModel("duffing", kDuffing));
   EXPECT_TRUE(ModelContinuationProblem(file, "w", 0.5, 3).only_frequencies_change);
@@ -162,7 +166,10 @@ TEST(ContinueModel, AFileInItsForcingFrequencyIsTheRebuiltBranchAndTheBuiltInOne
   Model rebuilt = file;
   rebuilt.frequency_parameters.clear();
   EXPECT_FALSE(ModelContinuationProblem(rebuilt, "w", 0.5, 3).only_frequencies_change);
-  EXPECT_EQ(LargestDifference(fast, Trace(rebuilt, "w", 0.5, 3, 8)), 0.0);
+  // Bit for bit in the Release build; in the sanitizer build (other
+  // floating-point contraction of the retuned frequency terms) the points
+  // moved along the branch by 9.4e-11.
+  EXPECT_LT(LargestDifference(fast, Trace(rebuilt, "w", 0.5, 3, 8)), kSameBranch);
   // The built-in example with the same equations: the same folds and end,
   // and every point of the file's branch solves the built-in's equations.
   const Model example = examples::ExampleModel("duffing", {{"F", 0.5}, {"w", 0.5}});
@@ -171,9 +178,9 @@ TEST(ContinueModel, AFileInItsForcingFrequencyIsTheRebuiltBranchAndTheBuiltInOne
   EXPECT_LT(LargestResidual(example, "w", fast), 1e-12);
   Model example_rebuilt = example;
   example_rebuilt.frequency_parameters.clear();
-  EXPECT_EQ(LargestDifference(builtin, Trace(example_rebuilt, "w", 0.5, 3, 8)), 0.0);
-  EXPECT_EQ(LargestDifference(Trace(example, "w", 0.5, 3, 15), Trace(example_rebuilt, "w", 0.5, 3, 15)), 0.0);
-  EXPECT_EQ(LargestDifference(Trace(file, "w", 0.5, 3, 15), Trace(rebuilt, "w", 0.5, 3, 15)), 0.0);
+  EXPECT_LT(LargestDifference(builtin, Trace(example_rebuilt, "w", 0.5, 3, 8)), kSameBranch);
+  EXPECT_LT(LargestDifference(Trace(example, "w", 0.5, 3, 15), Trace(example_rebuilt, "w", 0.5, 3, 15)), kSameBranch);
+  EXPECT_LT(LargestDifference(Trace(file, "w", 0.5, 3, 15), Trace(rebuilt, "w", 0.5, 3, 15)), kSameBranch);
 }
 
 // Every point of a branch in a rebuilt parameter solves the problem built at
@@ -214,7 +221,7 @@ guess: {x: "0.5*cos(w*t)"}
   ASSERT_TRUE(model.reload_problem);
   Model whole = model;
   whole.reload_problem = nullptr;
-  EXPECT_EQ(LargestDifference(in_a, Trace(whole, "a", 0.2, 1.0, 8)), 0.0);
+  EXPECT_LT(LargestDifference(in_a, Trace(whole, "a", 0.2, 1.0, 8)), kSameBranch);
   const HarmonicBalanceProblem alone = ProblemWithParameters(model, {{"a", 0.7}});
   EXPECT_TRUE(SameSystem(alone.system, WithParameters(model, {{"a", 0.7}}).problem.system));
   EXPECT_TRUE(alone.definitions);
