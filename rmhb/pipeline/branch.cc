@@ -561,15 +561,16 @@ void AppendStretch(ContinuationSummary stretch, ContinuationSummary* branch) {
 
 namespace {
 
-// The torus at `last`'s parameter on the adaptive index set enriched from
-// `last` (SelectIndexSet starts from its set), when its outermost
+// The torus at `last`'s parameter (the trace's own problem there, no rebuild
+// of the model) on the adaptive index set enriched from `last`
+// (SelectIndexSet starts from its set), when its outermost
 // coefficients are then within the tail tolerance; nullopt otherwise or
 // when the trace is not on the adaptive set.
-std::optional<HarmonicSolution> Enriched(const Model& model, const ContinueOptions& o, const ContinuationPoint& last) {
+std::optional<HarmonicSolution> Enriched(const ContinuationProblem& problem, const ContinueOptions& o,
+                                         const ContinuationPoint& last) {
   const HarmonicBalanceOptions& h = o.harmonic_balance;
   if (h.shape != BasisShape::kAdaptive || !(h.tolerance > 0)) return std::nullopt;
-  const Model here = WithParameters(model, {{o.parameter, last.parameter}});
-  const HarmonicBalanceSummary s = SolveHarmonicBalance(here.problem, last.solution, h);
+  const HarmonicBalanceSummary s = SolveHarmonicBalance(problem.build(last.parameter), last.solution, h);
   if (!s.usable() || s.solution->basis().size() <= last.solution.basis().size() ||
       OutermostCoefficients(*s.solution) > o.tail_tolerance)
     return std::nullopt;
@@ -603,7 +604,7 @@ void TraceModelBranch(const Model& model, const ContinueOptions& o, Continuation
     const bool stopped = c.status == ContinuationStatus::kStopped || c.status == ContinuationStatus::kStepTooSmall;
     if (torus && stopped && c.message.find(kUnresolved) != std::string::npos &&
         static_cast<int>(b->enrichments.size()) < o.max_enrichments) {
-      if (std::optional<HarmonicSolution> richer = Enriched(model, o, c.points.back())) {
+      if (std::optional<HarmonicSolution> richer = Enriched(problem, o, c.points.back())) {
         b->enrichments.push_back({c.points.back().parameter, c.points.back().solution.basis().size(),
                                   richer->basis().size()});
         // The richer solution replaces the last point: the next stretch starts on it.
