@@ -240,7 +240,9 @@ std::string HarmonicBalanceSummary::FullReport() const {
     out << "; target " << tolerance << " (" << ToString(tolerance_quantity) << "); estimated error: state "
         << state_estimate;
     if (frequency_estimate >= 0) out << ", frequency " << frequency_estimate;
-    out << (estimate_calibrated ? "" : " (tail only)") << "\n";
+    out << (estimate_calibrated ? "" : " (tail only)");
+    if (sampling_estimate >= 0) out << "; sampling " << sampling_estimate << " of it (half the samples)";
+    out << "\n";
   }
   if (solution) {
     out << "  frequencies:";
@@ -406,6 +408,11 @@ HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& probl
   return SolveAtOrder(problem, guess, options);
 }
 
+// Kinks and jumps make the spectrum decay algebraically (METHOD.md s.15).
+DecayModel DecayOf(const HarmonicBalanceProblem& problem) {
+  return problem.system.HasNonSmooth() ? DecayModel::kAlgebraic : DecayModel::kGeometric;
+}
+
 // The estimate of the quantity the tolerance is on (METHOD.md s.8): the
 // frequency only when the problem has an unknown one and it was asked for.
 double Targeted(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions& options,
@@ -430,11 +437,17 @@ void Record(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions&
 // one) and at most a factor 1.5 for one base (p + 2 for several): small
 // steps, so that the solves before the last cost at most about as much as it
 // (sum of (1/1.5^3)^i ~ 1.4). The step may always reach `reach` (the
-// requested start order, from the half-order probe of SelectOrder).
+// requested start order, from the half-order probe of SelectOrder). An
+// algebraic decay (a non-smooth model) needs orders tens of times the start
+// for a tight target, and its power law extrapolates far: steps up to 4x.
 int NextOrder(int order, int bases, const TruncationEstimate& e, double tolerance, int reach) {
-  const double aim = 0.25 * tolerance;
+  // Half for an algebraic decay: its estimate extrapolates the tail's
+  // N^(1 - p), and the error falls faster (N^-2.2 where the tail gave N^-2 on
+  // NLvib's example 03), so the margin is in the extrapolation already.
+  const double aim = (e.model == DecayModel::kAlgebraic ? 0.5 : 0.25) * tolerance;
   const int least = bases == 1 ? order + std::max(1, order / 8) : order + 1;
-  const int most = std::max(reach, bases == 1 ? std::max(least, (3 * order + 1) / 2) : order + 2);
+  const int factor = e.model == DecayModel::kAlgebraic ? 4 : 3;
+  const int most = std::max(reach, bases == 1 ? std::max(least, (factor * order + 1) / 2) : order + 2);
   const int level = TruncationEstimate{e}.PredictLevel(aim);
   if (level < 0) return most;
   // Orders and levels coincide for the standard shapes; a custom index set
@@ -539,7 +552,8 @@ HarmonicBalanceSummary SelectIndexSet(const HarmonicBalanceProblem& problem, con
   double threshold = 1e-2 * options.tolerance;
   auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {
     s.orders_tried = tried;
-    if (s.solver.converged() && !options.soft_tolerance) s.solver.status = SolverStatus::kNoConvergence;
+    s.short_of_target = s.solver.converged();
+    if (s.short_of_target && !options.soft_tolerance) s.solver.status = SolverStatus::kNoConvergence;
     s.solver.message = "index set selection: " + why + (s.solver.message.empty() ? "" : "; ") + s.solver.message;
     return s;
   };
@@ -547,7 +561,7 @@ HarmonicBalanceSummary SelectIndexSet(const HarmonicBalanceProblem& problem, con
   for (;;) {
     if (!current.converged() || !current.solution)
       return stop(current, "the solve on " + std::to_string(basis.size()) + " harmonics failed");
-    const TruncationEstimate e = EstimateTruncation(*current.solution, lower ? &*lower : nullptr);
+    const TruncationEstimate e = EstimateTruncation(*current.solution, lower ? &*lower : nullptr, DecayOf(problem));
     Record(problem, options, e, &current);
     std::vector<std::vector<int>> added = Enrich(*current.solution, threshold);
     if (current.truncation_estimate <= options.tolerance && (e.calibrated || added.empty())) break;
@@ -579,12 +593,74 @@ HarmonicBalanceSummary SelectIndexSet(const HarmonicBalanceProblem& problem, con
     higher.symmetries_found = symmetries_found;
     tried.push_back(next.order());
     if (!higher.converged() || !higher.solution)
-      return stop(higher, "the solve on " + std::to_string(next.size()) + " harmonics failed");
+      return stop(current, "the solve on " + std::to_string(next.size()) + " harmonics failed (" +
+                               higher.solver.message + "); the solution on " + std::to_string(basis.size()) +
+                               " is returned");
     lower = current.solution;
     current = std::move(higher);
     basis = next;
   }
   current.orders_tried = tried;
+  return current;
+}
+
+// The grid of a non-smooth model's order selection above order 64: 16 N
+// instead of 128 N samples (at least the 128 x 64 of order 64; METHOD.md
+// s.15), MeasureSampling doubling it where the target needs more. 128 N
+// keeps continuation's tangent smooth at low orders; at the orders a target
+// asks for, the quadrature error of a kink (~M^-2) is 1e-4 of the truncation
+// (NLvib's example 03 at N = 400, 164 N samples: 4 digits equal to 2x that),
+// and the samples are most of a solve's time.
+int LadderSamples(const HarmonicBalanceProblem& problem, int order) {
+  return std::max(NonSmoothSamples(order, 16, problem.system.AliasFreeSamples(order, 0)),
+                  NonSmoothSamples(std::min(order, 64)));
+}
+
+// A non-smooth model's quadrature error (its kinks and jumps fall between
+// the samples, METHOD.md s.15) is measured, not assumed: the solution
+// selected on M samples is solved again, warm, on 2M; their difference
+// bounds the error of the coarser grid, the finer solution is kept, and the
+// difference is added to its estimates (a kink's error falls like M^-2, a
+// jump's like 1/M: the finer one's is at most the difference). Doubled up to
+// three times while truncation and sampling together exceed the tolerance;
+// `why` says why the target was not met, empty when it was.
+HarmonicBalanceSummary MeasureSampling(const HarmonicBalanceProblem& problem, HarmonicBalanceSummary current,
+                                       const HarmonicBalanceOptions& o, const HarmonicBalanceOptions& options,
+                                       std::string* why) {
+  const double state = current.state_estimate, frequency = current.frequency_estimate;
+  HarmonicBalanceOptions finer = o;
+  finer.order_continuation = false;
+  finer.samples = current.samples;
+  for (int doubling = 1; doubling <= 3; ++doubling) {
+    for (int& m : finer.samples) m *= 2;
+    HarmonicBalanceSummary next = SolveAtOrder(problem, *current.solution, finer);
+    if (!next.converged() || !next.solution) {
+      *why = "the check of the sampling on " + std::to_string(finer.samples[0]) + " samples failed";
+      return current;
+    }
+    const HarmonicSolution& a = *next.solution;
+    const HarmonicSolution& b = *current.solution;
+    double shift = 0;
+    for (size_t i = 0; i < a.frequencies().size(); ++i)
+      shift = std::max(shift, std::abs(a.frequencies()[i] - b.frequencies()[i]) / std::abs(a.frequencies()[i]));
+    next.sampling_estimate = StateDifference(a, b, DecayModel::kAlgebraic);
+    next.orders_tried = current.orders_tried;
+    next.tolerance = current.tolerance;
+    next.tolerance_quantity = current.tolerance_quantity;
+    next.estimate_calibrated = current.estimate_calibrated;
+    next.state_estimate = state + next.sampling_estimate;
+    next.frequency_estimate = frequency >= 0 ? frequency + shift : -1;
+    next.truncation_estimate =
+        options.tolerance_quantity == TargetQuantity::kFrequency && frequency >= 0 ? next.frequency_estimate
+                                                                                    : next.state_estimate;
+    current = std::move(next);
+    if (current.truncation_estimate <= options.tolerance) return current;
+  }
+  std::ostringstream message;
+  message << "tolerance " << options.tolerance << " not reached with " << finer.samples[0]
+          << " samples (estimated error " << current.truncation_estimate << ", of it sampling "
+          << current.sampling_estimate << ")";
+  *why = message.str();
   return current;
 }
 
@@ -613,6 +689,7 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
                                    const HarmonicBalanceOptions& options) {
   HarmonicBalanceOptions o = options;
   o.tolerance = 0;
+  const DecayModel decay = DecayOf(problem);
   std::optional<HarmonicSolution> lower;
   HarmonicBalanceSummary current = SolveAtHalfOrder(problem, initial_guess, o, &lower);
   // The first step from the half order may go straight to the start order.
@@ -625,11 +702,16 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   const int bases = static_cast<int>(problem.frequencies.size());
   // Too low a start can have no solution near the physical one (the
   // pendulum near its separatrix at N = 25): start higher rather than fail.
-  auto fit = [&](int order) {
+  auto dense_fits = [&](int order) {
     HarmonicBalanceOptions probe = o;
     probe.order = order;
     return DenseJacobianSize(problem, probe).bytes() <= options.max_jacobian_bytes;
   };
+  // A non-smooth model's target needs orders in the thousands (METHOD.md
+  // s.15): past the dense limit the automatic linear solver is Krylov's
+  // anyway (no dense J), so there it is asked for by name.
+  const bool krylov_beyond = decay == DecayModel::kAlgebraic && options.solver.linear_solver == LinearSolver::kAuto;
+  auto fit = [&](int order) { return krylov_beyond || dense_fits(order); };
   while (!current.converged() && 2 * o.order <= options.max_order && fit(2 * o.order) &&
          tried.size() < 4) {
     o.order *= 2;
@@ -639,7 +721,8 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   }
   auto stop = [&](HarmonicBalanceSummary s, const std::string& why) {
     s.orders_tried = tried;
-    if (s.solver.converged() && !options.soft_tolerance) s.solver.status = SolverStatus::kNoConvergence;
+    s.short_of_target = s.solver.converged();
+    if (s.short_of_target && !options.soft_tolerance) s.solver.status = SolverStatus::kNoConvergence;
     s.solver.message = "order selection: " + why + (s.solver.message.empty() ? "" : "; ") +
                        s.solver.message;
     return s;
@@ -656,17 +739,19 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   for (;;) {
     if (!current.converged() || !current.solution)
       return stop(current, "the solve at order " + std::to_string(o.order) + " failed");
-    TruncationEstimate e = EstimateTruncation(*current.solution, lower ? &*lower : nullptr);
+    TruncationEstimate e = EstimateTruncation(*current.solution, lower ? &*lower : nullptr, decay);
     // Met by the tail alone: measure the problem's constant once on a lower
     // order (warm, cheaper than this solve) before saying so.
     if (!e.calibrated && Targeted(problem, options, e) <= options.tolerance && o.order > 1) {
       HarmonicBalanceOptions below = o;
-      below.order = std::max(1, o.order - std::max(2, o.order / 5));
+      // Half the order for an algebraic decay: its calibration takes the
+      // difference for the lower solution's whole error (EstimateTruncation).
+      below.order = std::max(1, decay == DecayModel::kAlgebraic ? o.order / 2 : o.order - std::max(2, o.order / 5));
       below.order_continuation = false;
       const HarmonicBalanceSummary check = SolveAtOrder(problem, *current.solution, below);
       if (check.converged() && check.solution) {
         lower = check.solution;
-        e = EstimateTruncation(*current.solution, &*lower);
+        e = EstimateTruncation(*current.solution, &*lower, decay);
       }
     }
     Record(problem, options, e, &current);
@@ -689,15 +774,37 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
     HarmonicBalanceOptions n = o;
     n.order = std::min({options.max_order, fits, NextOrder(o.order, bases, e, options.tolerance, o.order < reach ? reach : 0)});
     n.order_continuation = false;  // warm-started from the previous order
-    HarmonicBalanceSummary higher = SolveAtOrder(problem, *current.solution, n);
+    if (!dense_fits(n.order)) n.solver.linear_solver = LinearSolver::kKrylov;
+    std::optional<HarmonicBalanceSummary> on_coarse;
+    if (decay == DecayModel::kAlgebraic && bases == 1 && n.order > 64 && options.samples.empty() &&
+        options.rule != SamplingRule::kHdhb) {
+      // The coarser grid, Newton only: a residual sampled more coarsely is
+      // rougher at the switches (friction's stick-slip transitions stall
+      // Newton at 85 N samples); failing there, the rule's grid.
+      HarmonicBalanceOptions coarse = n;
+      coarse.samples = {LadderSamples(problem, n.order)};
+      if (coarse.solver.method == SolverMethod::kAuto) coarse.solver.method = SolverMethod::kNewton;
+      on_coarse = SolveAtOrder(problem, *current.solution, coarse);
+      if (on_coarse->converged()) n.samples = coarse.samples;
+    }
+    HarmonicBalanceSummary higher = on_coarse && on_coarse->converged()
+                                        ? std::move(*on_coarse)
+                                        : SolveAtOrder(problem, *current.solution, n);
     tried.push_back(n.order);
     if (!higher.converged() || !higher.solution)
-      return stop(higher, "the solve at order " + std::to_string(n.order) + " failed");
+      // The last converged solution stands, with its estimate.
+      return stop(current, "the solve at order " + std::to_string(n.order) + " failed (" + higher.solver.message +
+                               "); the solution at order " + std::to_string(o.order) + " is returned");
     lower = current.solution;
     current = std::move(higher);
     o = n;
   }
   current.orders_tried = tried;
+  if (decay == DecayModel::kAlgebraic) {
+    std::string why;
+    current = MeasureSampling(problem, std::move(current), o, options, &why);
+    if (!why.empty()) return stop(current, why);
+  }
   return current;
 }
 

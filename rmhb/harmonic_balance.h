@@ -140,6 +140,13 @@ struct HarmonicBalanceSummary {
   double truncation_estimate = -1;
   double state_estimate = -1, frequency_estimate = -1;
   bool estimate_calibrated = false;
+  // A non-smooth model's quadrature error, included in the estimates above:
+  // the difference from the solution on half the samples (-1: not measured).
+  double sampling_estimate = -1;
+  // Order selection stopped short of the tolerance after a converged solve
+  // (the status then says not converged unless options.soft_tolerance): the
+  // solution is good to the estimates, another start would not change them.
+  bool short_of_target = false;
   // Symmetries of the equations that the adaptive index set's first solve
   // found in its solution and imposed from then on (continuation keeps
   // imposing them along the branch).

@@ -15,6 +15,11 @@
 // difference against the smaller basis's tail), so the frequency's faster
 // convergence (Van der Pol: its error ~ the tail squared) is stated
 // separately. Without one the constant is taken as 1.
+// A model with kinks or jumps (PolynomialSystem::HasNonSmooth) decays
+// algebraically, sizes ~ l^-p: its tail and prediction follow that law
+// (DecayModel::kAlgebraic; METHOD.md s.15), where a geometric fit would
+// under-report the neglected harmonics (1.3e-4 estimated, 5.9e-4 measured on
+// NLvib's example 03 at N = 100).
 
 #include <vector>
 
@@ -22,9 +27,13 @@
 
 namespace rmhb {
 
+enum class DecayModel { kGeometric, kAlgebraic };
+
 struct TruncationEstimate {
+  DecayModel model = DecayModel::kGeometric;
   double tail = 0;        // boundary sizes times the decay factor (relative)
-  double decay = 1;       // fitted ratio of sizes per level; 1 when no decay is seen
+  double decay = 1;       // geometric: fitted ratio of sizes per level; 1 when no decay is seen
+  double exponent = 0;    // algebraic: fitted p of sizes ~ l^-p; 0 when no decay is seen
   int top_level = 0;      // largest |k|_1 in the basis
   double state = 0;       // estimated max time-domain error, relative per variable
   double frequency = 0;   // estimated relative error of the frequencies (unknown ones)
@@ -37,7 +46,17 @@ struct TruncationEstimate {
 // `lower`: the same problem solved on a basis contained in s.basis() (may be
 // null). Frequency errors count only the frequencies that differ between
 // the two; without `lower` the frequency estimate is the state estimate.
-TruncationEstimate EstimateTruncation(const HarmonicSolution& s, const HarmonicSolution* lower = nullptr);
+TruncationEstimate EstimateTruncation(const HarmonicSolution& s, const HarmonicSolution* lower = nullptr,
+                                      DecayModel model = DecayModel::kGeometric);
+
+// How far `other` is from s in the estimate's measure of the state: per
+// variable relative to its largest coefficient in s, the sum of the
+// coefficients' differences on s.basis() (a bound on the time-domain
+// difference), or for kAlgebraic on one base the time-domain difference
+// itself (sampled, 8 points per harmonic: the sum would count a coarser
+// solution's missing harmonics whole, several times the difference).
+double StateDifference(const HarmonicSolution& s, const HarmonicSolution& other,
+                       DecayModel model = DecayModel::kGeometric);
 
 // Per harmonic k of s.basis(): max over variables of |c_jk| / scale_j
 // (scale_j: the variable's largest coefficient, at least 1e-6 of the largest

@@ -65,7 +65,10 @@ std::string Details(const SolveSummary& s) {
     for (int o : hb.orders_tried) out += Format(" %d", o);
     out += Format("), estimated error: state %.1e", hb.state_estimate);
     if (hb.frequency_estimate >= 0) out += Format(", frequency %.1e", hb.frequency_estimate);
-    out += hb.estimate_calibrated ? " (calibrated on a lower order)\n" : " (coefficient tail)\n";
+    out += hb.estimate_calibrated ? " (calibrated on a lower order" : " (coefficient tail";
+    if (hb.sampling_estimate >= 0)
+      out += Format("; sampling %.1e of it, from a solve on half the samples", hb.sampling_estimate);
+    out += ")\n";
   }
   if (hb.solver.reciprocal_condition > 0) {
     out += Format("condition    1/cond(J) ~ %.2e (last factorised Jacobian)", hb.solver.reciprocal_condition);
@@ -161,7 +164,9 @@ json SolveSummary::ToJson() const {
                               {"state_estimate", JsonNumber(hb.state_estimate)},
                               {"frequency_estimate", hb.frequency_estimate >= 0 ? JsonNumber(hb.frequency_estimate)
                                                                                 : json(nullptr)},
-                              {"calibrated", hb.estimate_calibrated}};
+                              {"calibrated", hb.estimate_calibrated},
+                              {"sampling_estimate",
+                               hb.sampling_estimate >= 0 ? JsonNumber(hb.sampling_estimate) : json(nullptr)}};
   // null when not computed (the solve failed before a Jacobian was factorised).
   out["reciprocal_condition"] =
       hb.solver.reciprocal_condition > 0 ? JsonNumber(hb.solver.reciprocal_condition) : json(nullptr);

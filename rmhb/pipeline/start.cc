@@ -77,7 +77,7 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
                                const HarmonicBalanceOptions& options, const StartOptions& start) {
   if (const std::string error = start.IsValid(); !error.empty()) throw std::invalid_argument("start: " + error);
   StartedSolve out{SolveHarmonicBalance(model.problem, guess, options), "guess", "", 0};
-  if (out.summary.usable() || (!model.original && !model.original_dae)) return out;
+  if (out.summary.usable() || out.summary.short_of_target || (!model.original && !model.original_dae)) return out;
   out.note = "from the guess: " + Why(out.summary);
   std::string why;
   if (Unknown(model.problem)) {

@@ -21,6 +21,8 @@
 #include "rmhb/model/internal/nonsmooth.h"
 #include "rmhb/model/model_error.h"
 #include "rmhb/pipeline/model.h"
+#include "rmhb/pipeline/settings.h"
+#include "rmhb/pipeline/solve.h"
 
 namespace rmhb {
 namespace {
@@ -122,7 +124,8 @@ const char* kFriction =
     "  - \"x'' + 0.1*x' + x + coulomb(x', Fn) = F*cos(W*t)\"\nfrequencies: [W]\n";
 
 // The solution's state against the event-located (stick-slip) integration
-// of the Coulomb model over one period, relative to max|state|.
+// of the Coulomb model over one period, relative to max|state| (`coulomb`:
+// the model whose switched equations are the reference).
 double AgainstStickSlip(const Model& coulomb, const Model& model, const HarmonicSolution& s, int* events) {
   const double T = 2 * M_PI / s.frequencies()[0];
   const integrators::ValidationReport v = integrators::ValidateSwitchedTrajectory(
@@ -275,6 +278,62 @@ TEST(NonSmooth, SquareWaveForcingAgainstItsFourierSeries) {
     previous = error;
   }
   EXPECT_LT(previous, 3e-3);
+}
+
+// `rmhb solve FILE --tol T` (order selection with the algebraic decay model
+// and the sampling measured, METHOD.md s.15), and its relative error against
+// the event-located orbit (the switch crossings it located a period).
+struct TargetRun {
+  SolveSummary solve;
+  double error = HUGE_VAL;
+  int crossings = 0;
+};
+TargetRun SolveToTarget(const std::string& name, const std::string& equation, double frequency, double tol) {
+  const std::string file = Write(name, "variables: [x]\nequations:\n  - \"" + equation + "\"\nfrequencies: [" +
+                                           std::to_string(frequency) + "]\n");
+  SolveSettings settings;
+  settings.tol = tol;
+  const PreparedSolve prepared = PrepareSolve(LoadModel(file), settings);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  TargetRun run{SolveModel(prepared.model, prepared.guess, options)};
+  const HarmonicBalanceSummary& hb = run.solve.harmonic_balance;
+  if (run.solve.status != SolveStatus::kConverged) return run;
+  run.error = AgainstStickSlip(prepared.model, prepared.model, *hb.solution, &run.crossings);
+  std::printf("%s, target %.0e: order %d, M = %d, estimate %.1e (sampling %.1e), event-located error %.1e\n",
+              name.c_str(), tol, hb.order, hb.samples[0], hb.state_estimate, hb.sampling_estimate, run.error);
+  return run;
+}
+
+// A forced oscillator with a one-sided spring (not NLvib's; the contact is
+// reached): the target drives the order from the start past 64 (the errors
+// fall like N^-2.5), the estimate is an upper estimate of the error against
+// the event-located orbit, and the sampling's share is measured.
+TEST(NonSmooth, AccuracyTargetChoosesTheOrderOfAContactModel) {
+  const TargetRun run =
+      SolveToTarget("contact", "x'' + 0.04*x' + x + 30*max(x - 0.5, 0) = 0.25*cos(0.8*t)", 0.8, 1e-4);
+  ASSERT_EQ(run.solve.status, SolveStatus::kConverged) << run.solve.FullReport();
+  const HarmonicBalanceSummary& hb = run.solve.harmonic_balance;
+  EXPECT_EQ(run.crossings, 2);
+  EXPECT_GT(hb.order, 64);  // measured 365: a geometric fit stopped at 25 with 6e-3
+  EXPECT_LE(hb.state_estimate, 1e-4);
+  EXPECT_LT(run.error, hb.state_estimate);  // measured 1.7e-5 against 3.7e-5
+  EXPECT_GE(hb.sampling_estimate, 0);
+  EXPECT_LT(hb.sampling_estimate, 1e-2 * hb.state_estimate);  // a kink's quadrature: 3.4e-7
+}
+
+// A jump's quadrature error falls only like 1 / M: the square-wave forcing
+// (shifted so that no sample lands on the jump) needs more samples than the
+// ladder's 16 N, and the measured sampling share says so.
+TEST(NonSmooth, AccuracyTargetDoublesTheSamplesOfAJump) {
+  const TargetRun run = SolveToTarget("square-shifted", "x'' + 0.1*x' + x = sign(cos(0.7*t + 0.3))", 0.7, 1e-3);
+  ASSERT_EQ(run.solve.status, SolveStatus::kConverged) << run.solve.FullReport();
+  const HarmonicBalanceSummary& hb = run.solve.harmonic_balance;
+  EXPECT_EQ(run.crossings, 2);
+  EXPECT_GT(hb.samples[0], NonSmoothSamples(hb.order, 16));  // doubled at least once
+  EXPECT_GT(hb.sampling_estimate, 1e-5);                      // measured 1.3e-4
+  EXPECT_LE(hb.state_estimate, 1e-3);
+  EXPECT_LT(run.error, hb.state_estimate);  // measured 1.1e-4 against 9.4e-4
 }
 
 TEST(NonSmooth, ModelErrorsNameThePlace) {
