@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rmhb/pipeline/monodromy.h"
 #include "rmhb/pipeline/report.h"
 
 namespace rmhb {
@@ -37,8 +38,34 @@ void HillPart(const Model& model, const HarmonicSolution& solution, const Stabil
   }
 }
 
+// A piecewise-smooth model: the event-located monodromy with the saltation
+// matrices at its switches (METHOD.md s.15), at FloquetPart's tolerances; an
+// integration across the kinks and jumps would smear them over a step (a
+// relay's multipliers 0.2 off).
+void SwitchedFloquetPart(const Model& model, const HarmonicSolution& solution, const StabilityOptions& o,
+                         StabilitySummary* s) {
+  ModelMonodromyOptions tight;
+  const integrators::IntegratorOptions defaults;
+  tight.relative_tolerance = defaults.relative_tolerance;
+  tight.absolute_tolerance = defaults.absolute_tolerance;
+  const MonodromyResult m = ModelMonodromy(model, solution, 1, tight);
+  integrators::FloquetReport r;
+  r.ok = m.ok;
+  r.message = m.message;
+  r.multipliers = m.multipliers;
+  r.trivial = m.trivial;
+  r.seconds = m.seconds;
+  r.max_modulus = LargestModulus(r.multipliers, r.trivial);
+  r.stable = r.max_modulus < 1 - o.neutral_band;
+  s->floquet = std::move(r);
+  s->floquet_integrator = m.integrator;
+  if (s->floquet->ok)
+    s->floquet_verdict = MultiplierVerdict(s->floquet->multipliers, s->floquet->trivial, o.neutral_band);
+}
+
 void FloquetPart(const Model& model, const HarmonicSolution& solution, const StabilityOptions& o,
                  StabilitySummary* s) {
+  if (model.original_switched) return SwitchedFloquetPart(model, solution, o, s);
   if (!model.original) {
     s->floquet_note = "no monodromy matrix: " +
                       (model.original_dae ? std::string("the original system is a DAE") : model.original_error);

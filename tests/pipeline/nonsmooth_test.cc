@@ -23,6 +23,7 @@
 #include "rmhb/pipeline/model.h"
 #include "rmhb/pipeline/settings.h"
 #include "rmhb/pipeline/solve.h"
+#include "rmhb/pipeline/stability.h"
 
 namespace rmhb {
 namespace {
@@ -217,11 +218,32 @@ TEST(Friction, BetweenTwoMassesOneForce) {
 // friction with stick phases) against an independent reference: central
 // differences of the event-located flow map itself. Without the saltation
 // matrices (before they were applied) the relay's differed by O(1).
+// Central differences of the event-located flow map over [0, T] at y0
+// (step 1e-6); `events`: the switches crossed from y0 + h e_last.
+Eigen::MatrixXd FlowMapDerivative(const integrators::SwitchedOdeSystem& system, const Eigen::VectorXd& y0, double T,
+                                  const integrators::IntegratorOptions& options, int* events) {
+  const long n = y0.size();
+  Eigen::MatrixXd out(n, n);
+  for (long j = 0; j < n; ++j) {
+    const double h = 1e-6;
+    Eigen::VectorXd plus = y0, minus = y0;
+    plus(j) += h;
+    minus(j) -= h;
+    const auto a = integrators::IntegrateSwitched(system, plus, 0.0, {T}, options);
+    const auto b = integrators::IntegrateSwitched(system, minus, 0.0, {T}, options);
+    if (!a.result.ok() || !b.result.ok()) return Eigen::MatrixXd();
+    *events = a.events;
+    out.col(j) = (a.result.trajectory.states.row(0) - b.result.trajectory.states.row(0)).transpose() / (2 * h);
+  }
+  return out;
+}
+
+const char* kRelay =
+    "variables: [x]\nparameters: {W: 1}\nequations:\n  - \"x'' + 0.2*x' + x + 0.5*sign(x) = 2*cos(W*t)\"\n"
+    "frequencies: [W]\n";
+
 TEST(NonSmooth, MonodromyAcrossJumpsIsTheFlowMapsDerivative) {
-  const char* relay =
-      "variables: [x]\nparameters: {W: 1}\nequations:\n  - \"x'' + 0.2*x' + x + 0.5*sign(x) = 2*cos(W*t)\"\n"
-      "frequencies: [W]\n";
-  for (const std::string& text : {std::string(relay), std::string(kFriction)}) {
+  for (const std::string& text : {std::string(kRelay), std::string(kFriction)}) {
     const Model model = LoadModel(Write("jumps", text));
     ASSERT_TRUE(model.original_switched);
     const double W = model.problem.frequencies[0], T = 2 * M_PI / W;
@@ -233,25 +255,45 @@ TEST(NonSmooth, MonodromyAcrossJumpsIsTheFlowMapsDerivative) {
     std::string failure;
     const Eigen::MatrixXd M = integrators::SwitchedMonodromy(system, y0, T, tight, &failure);
     ASSERT_EQ(M.rows(), 2) << failure;
-    Eigen::MatrixXd reference(2, 2);
     int events = 0;
-    for (int j = 0; j < 2; ++j) {
-      const double h = 1e-6;
-      Eigen::Vector2d plus = y0, minus = y0;
-      plus(j) += h;
-      minus(j) -= h;
-      const auto a = integrators::IntegrateSwitched(system, plus, 0.0, {T}, tight);
-      const auto b = integrators::IntegrateSwitched(system, minus, 0.0, {T}, tight);
-      ASSERT_TRUE(a.result.ok() && b.result.ok());
-      events = a.events;
-      reference.col(j) = (a.result.trajectory.states.row(0) - b.result.trajectory.states.row(0)).transpose() / (2 * h);
-    }
+    const Eigen::MatrixXd reference = FlowMapDerivative(system, y0, T, tight, &events);
+    ASSERT_EQ(reference.rows(), 2);
     const double difference = (M - reference).cwiseAbs().maxCoeff();
     std::printf("monodromy across %d switches against the flow map's differences: %.1e (|M| %.2f)\n", events,
                 difference, M.cwiseAbs().maxCoeff());
     EXPECT_GE(events, 2);
     EXPECT_LT(difference, 1e-5 * (1 + M.cwiseAbs().maxCoeff()));
   }
+}
+
+// `solve --stability` on a relay: the CVODE column is the event-located
+// monodromy (its multipliers those of the flow map's derivative at the
+// solution's start), not an integration across the jumps.
+TEST(NonSmooth, StabilityOfARelayIsJudgedOnTheEventLocatedMonodromy) {
+  Model model = LoadModel(Write("relay", kRelay));
+  HarmonicBalanceOptions options;
+  options.order = 40;
+  const HarmonicBalanceSummary s = SolveHarmonicBalance(model.problem, GuessAtOrder(model, 40), options);
+  ASSERT_TRUE(s.usable()) << s.FullReport();
+  const StabilitySummary stability = Stability(model, *s.solution);
+  ASSERT_TRUE(stability.floquet && stability.floquet->ok) << stability.floquet_note;
+  EXPECT_NE(stability.floquet_integrator.find("switches located"), std::string::npos) << stability.floquet_integrator;
+  const double T = 2 * M_PI;
+  integrators::IntegratorOptions tight;
+  int events = 0;
+  const Eigen::MatrixXd reference =
+      FlowMapDerivative(model.original_switched({1.0}), model.state(*s.solution, 0.0), T, tight, &events);
+  ASSERT_EQ(reference.rows(), 2);
+  Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(reference, false).eigenvalues();
+  std::vector<std::complex<double>> expected(mu.data(), mu.data() + mu.size());
+  std::sort(expected.begin(), expected.end(), [](auto a, auto b) { return std::abs(a) > std::abs(b); });
+  double difference = 0;
+  for (int i = 0; i < 2; ++i) difference = std::max(difference, std::abs(stability.floquet->multipliers[i] - expected[i]));
+  std::printf("relay: multipliers %.6f%+.6fi, %.6f%+.6fi (%d switches); against the flow map's: %.1e; %s\n",
+              expected[0].real(), expected[0].imag(), expected[1].real(), expected[1].imag(), events, difference,
+              stability.Judged().c_str());
+  EXPECT_GE(events, 2);
+  EXPECT_LT(difference, 1e-5);
 }
 
 // A square-wave forcing, sign(cos(W t)), on a linear oscillator: each
