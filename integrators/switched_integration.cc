@@ -119,29 +119,43 @@ SwitchedIntegration IntegrateSwitched(const SwitchedOdeSystem& system, const Eig
 
 namespace {
 
+// Central differences (~cbrt(eps) steps) at (t, y) in `modes`: of the field,
+// df/dy into *J (n x n), and of the switch arguments, dg/dy into *G (m x n),
+// each when given. y is restored on return.
+void CentralDifferences(const SwitchedOdeSystem& system, double t, Eigen::VectorXd* y, const signed char* modes,
+                        Eigen::MatrixXd* J, Eigen::MatrixXd* G) {
+  const int n = system.dimension, m = system.num_switches;
+  thread_local Eigen::VectorXd fp, fm, gp, gm;
+  fp.resize(n), fm.resize(n), gp.resize(m), gm.resize(m);
+  if (J) J->resize(n, n);
+  if (G) G->resize(m, n);
+  for (int j = 0; j < n; ++j) {
+    const double h = 6e-6 * (1 + std::abs((*y)(j)));
+    const double saved = (*y)(j);
+    (*y)(j) = saved + h;
+    system.rhs(t, y->data(), modes, fp.data(), G ? gp.data() : nullptr);
+    (*y)(j) = saved - h;
+    system.rhs(t, y->data(), modes, fm.data(), G ? gm.data() : nullptr);
+    (*y)(j) = saved;
+    if (J) J->col(j) = (fp - fm) / (2 * h);
+    if (G) G->col(j) = (gp - gm) / (2 * h);
+  }
+}
+
 // The saltation matrix of the crossing at (t, y) from the modes `before` to
 // `after` (SwitchedMonodromy): each switch that changed, in turn; a grazing
 // crossing (grad g . f- + g_t ~ 0) has none (the identity is kept).
 Eigen::MatrixXd Saltation(const SwitchedOdeSystem& system, double t, const Eigen::VectorXd& y,
                           const signed char* before, const signed char* after) {
   const int n = system.dimension, m = system.num_switches;
-  Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n);
+  Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n), G;
   std::vector<signed char> modes(before, before + m);
-  Eigen::VectorXd f_before(n), f_after(n), g(m), gp(m), gm(m), scratch(n);
+  Eigen::VectorXd f_before(n), f_after(n), g(m), gp(m), gm(m), scratch(n), x = y;
   for (int k = 0; k < m; ++k) {
     if (before[k] == after[k]) continue;
     system.rhs(t, y.data(), modes.data(), f_before.data(), g.data());
-    Eigen::VectorXd grad(n), x = y;
-    for (int j = 0; j < n; ++j) {
-      const double h = 6e-6 * (1 + std::abs(x(j)));
-      const double saved = x(j);
-      x(j) = saved + h;
-      system.rhs(t, x.data(), modes.data(), scratch.data(), gp.data());
-      x(j) = saved - h;
-      system.rhs(t, x.data(), modes.data(), scratch.data(), gm.data());
-      x(j) = saved;
-      grad(j) = (gp(k) - gm(k)) / (2 * h);
-    }
+    CentralDifferences(system, t, &x, modes.data(), nullptr, &G);
+    const Eigen::VectorXd grad = G.row(k).transpose();
     const double ht = 6e-6 * (1 + std::abs(t));
     system.rhs(t + ht, y.data(), modes.data(), scratch.data(), gp.data());
     system.rhs(t - ht, y.data(), modes.data(), scratch.data(), gm.data());
@@ -165,22 +179,10 @@ Eigen::MatrixXd SwitchedMonodromy(const SwitchedOdeSystem& system, const Eigen::
   augmented.next_mode = system.next_mode;
   augmented.rhs = [&system, n](double t, const double* z, const signed char* modes, double* zdot, double* arguments) {
     system.rhs(t, z, modes, zdot, arguments);
-    thread_local Eigen::VectorXd y, fp, fm;
+    thread_local Eigen::VectorXd y;
     thread_local Eigen::MatrixXd J;
     y = Eigen::Map<const Eigen::VectorXd>(z, n);
-    fp.resize(n);
-    fm.resize(n);
-    J.resize(n, n);
-    for (int j = 0; j < n; ++j) {
-      const double h = 6e-6 * (1 + std::abs(y(j)));  // ~cbrt(eps): central differences
-      const double saved = y(j);
-      y(j) = saved + h;
-      system.rhs(t, y.data(), modes, fp.data(), nullptr);
-      y(j) = saved - h;
-      system.rhs(t, y.data(), modes, fm.data(), nullptr);
-      y(j) = saved;
-      J.col(j) = (fp - fm) / (2 * h);
-    }
+    CentralDifferences(system, t, &y, modes, &J, nullptr);
     Eigen::Map<Eigen::MatrixXd>(zdot + n, n, n) = J * Eigen::Map<const Eigen::MatrixXd>(z + n, n, n);
   };
   augmented.at_switch = [&system, n](double t, double* z, const signed char* before, const signed char* after) {

@@ -81,10 +81,12 @@ inline double Distance(const std::vector<std::complex<double>>& mu, bool period_
   return best;
 }
 
-// The parameter w in [a, b] where the multipliers cross, by the secant
-// method on the shooting orbit's multipliers; *y follows the orbit. Where
-// the critical multiplier is not of its kind at b (a complex pair not yet
-// split into the real one that crosses -1), b moves halfway to a first.
+// The parameter w in [a, b] where the multipliers cross, by the Illinois
+// method (regula falsi that halves the stale end's value) on the shooting
+// orbit's multipliers, so that it never leaves the bracket (a plain secant
+// once ran off to w = 5e5); *y follows the orbit. Where the critical
+// multiplier is not of its kind at b (a complex pair not yet split into the
+// real one that crosses -1), b moves halfway to a first. NAN: no crossing.
 inline double ReferenceCrossing(const Model& model, double a, double b, bool period_doubling, Eigen::VectorXd* y) {
   Orbit oa = Shoot(model, a, *y);
   Orbit ob = Shoot(model, b, oa.y);
@@ -95,11 +97,23 @@ inline double ReferenceCrossing(const Model& model, double a, double b, bool per
     gb = Distance(ob.mu, period_doubling);
   }
   if (!(ga * gb < 0)) return NAN;  // no crossing in [a, b]
-  for (int it = 0; it < 30 && std::abs(b - a) > 1e-13; ++it) {
+  int stale = 0;                   // which end kept its value last: -1 a, +1 b
+  for (int it = 0; it < 60 && std::abs(b - a) > 1e-13; ++it) {
     const double c = b - gb * (b - a) / (gb - ga);
-    if (!std::isfinite(c)) return NAN;  // an orbit lost on the way (no multipliers)
     const Orbit oc = Shoot(model, c, ob.y);
-    a = b, ga = gb, b = c, gb = Distance(oc.mu, period_doubling), ob = oc;
+    const double gc = Distance(oc.mu, period_doubling);
+    if (!std::isfinite(gc)) return NAN;  // an orbit lost on the way (no multipliers)
+    if (gc == 0) return *y = oc.y, c;
+    if (gc * gb < 0) {
+      a = b, ga = gb;  // the crossing lies between c and the old b
+      stale = 0;
+    } else if (stale == -1) {
+      ga *= 0.5;       // a stayed twice: Illinois
+    } else {
+      stale = -1;
+    }
+    b = c, gb = gc, ob = oc;
+    if (std::abs(gb) <= 1e-12) break;
   }
   *y = ob.y;
   return b;
