@@ -32,7 +32,7 @@ const char* ShortName(BifurcationType type) {
 }
 
 TestFunctionSigns TestSigns(const Multipliers& mu, int trivial) {
-  int below_plus = 0, below_minus = 0, torus = 0;
+  int below_plus = 0, below_minus = 0, torus = 0, pairs = 0;
   std::vector<double> reals;
   for (size_t i = 0; i < mu.size(); ++i) {
     if (static_cast<int>(i) == trivial) continue;
@@ -45,11 +45,12 @@ TestFunctionSigns TestSigns(const Multipliers& mu, int trivial) {
       // One factor mu mu* - 1 = |mu|^2 - 1 per conjugate pair; the factors
       // pairing it with other multipliers come in conjugate pairs (> 0).
       torus += std::abs(mu[i]) < 1;
+      pairs += std::abs(mu[i]) < 1;
     }
   }
   for (size_t i = 0; i < reals.size(); ++i)
     for (size_t j = i + 1; j < reals.size(); ++j) torus += reals[i] * reals[j] < 1;
-  return {below_plus % 2 ? -1 : 1, below_minus % 2 ? -1 : 1, torus % 2 ? -1 : 1};
+  return {below_plus % 2 ? -1 : 1, below_minus % 2 ? -1 : 1, torus % 2 ? -1 : 1, pairs % 2 ? -1 : 1};
 }
 
 bool CriticalMultiplier(const Multipliers& mu, int trivial, BifurcationType type, std::complex<double>* critical,
@@ -94,6 +95,11 @@ std::string BifurcationPoint::Describe(const std::string& name) const {
                 name.c_str(), parameter, multiplier.real(), multiplier.imag(), method.c_str(),
                 located ? "located" : "NOT located", test, std::abs(distance), located ? "<=" : ">", tolerance);
   std::string out = line;
+  if (Jump()) {
+    std::snprintf(line, sizeof line, ", the multipliers jump across it within %.1e (a switching event such as "
+                  "grazing)", parameter_bracket);
+    return out + line;
+  }
   if (std::isfinite(parameter_error)) {
     std::snprintf(line, sizeof line, ", %s within ~%.0e (last bracket %.1e wide)", name.c_str(), parameter_error,
                   parameter_bracket);

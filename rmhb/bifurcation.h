@@ -28,6 +28,7 @@
 // eigenvalues of a real matrix with Im exactly 0, and Hill's method puts a
 // real negative multiplier at exp((a + i w/2) T), Im ~ 1e-11 |mu|.
 
+#include <cmath>
 #include <complex>
 #include <limits>
 #include <string>
@@ -63,6 +64,10 @@ struct TestFunctionSigns {
   int plus = 1;   // sign of psi_+ (real multiplier through +1)
   int minus = 1;  // sign of psi_- (through -1)
   int torus = 1;  // sign of psi_NS (complex pair through the unit circle)
+  // psi_NS's factor from the complex pairs alone: (-1)^(pairs inside the
+  // circle). psi_NS also changes sign where two real multipliers' product
+  // passes 1 (a neutral saddle); this factor only where a pair crosses.
+  int pairs = 1;
 };
 
 constexpr double kRealMultiplierTolerance = 1e-8;
@@ -105,6 +110,12 @@ struct BifurcationPoint {
   double torus_frequency = 0;
 
   std::string Describe(const std::string& parameter_name) const;  // one line
+  // Not located although the bracket shrank to round-off: the multipliers
+  // jump across the critical value (a non-smooth orbit grazing a switch);
+  // there is no smooth crossing, nor a torus to switch to.
+  bool Jump() const {
+    return type != BifurcationType::kFold && !located && parameter_bracket <= 1e-12 * (1 + std::abs(parameter));
+  }
 };
 
 }  // namespace rmhb

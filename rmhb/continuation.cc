@@ -433,8 +433,15 @@ std::optional<Event> Tracer::LocateCrossing(BifurcationType type, const Continua
     if (b - a <= 1e-13 * ds) break;
   }
   // A psi_NS sign change without a complex pair on the circle is a neutral
-  // saddle (two real multipliers with product 1): no bifurcation.
-  if (best && type == BifurcationType::kNeimarkSacker && std::abs(best_g) > 1e-3) return std::nullopt;
+  // saddle (two real multipliers with product 1): no bifurcation. Unless a
+  // pair did cross between the step's ends and the location missed the
+  // circle: the multipliers of a non-smooth orbit jump at grazing (NLvib's
+  // example 03 at W = 0.5819: |mu| 1.16 to 0.94 within 4e-6), and that
+  // crossing is reported, not located.
+  if (best && type == BifurcationType::kNeimarkSacker && std::abs(best_g) > 1e-3 &&
+      TestSigns(before.multipliers, before.trivial_multiplier).pairs ==
+          TestSigns(after.multipliers, after.trivial_multiplier).pairs)
+    return std::nullopt;
   if (!best) {
     // The location failed from its first trial (the corrector, or no
     // multipliers there): the crossing is reported at the step's end point,

@@ -111,7 +111,7 @@ void SwitchBranches(const Model& model, const ContinueOptions& o, const Continua
       }
       b->doubled.push_back(std::move(d));
     }
-    if (bif.type != BifurcationType::kNeimarkSacker) continue;
+    if (bif.type != BifurcationType::kNeimarkSacker || bif.Jump()) continue;
     TorusReport t{TorusFromNeimarkSacker(problem, s, bif, options, o.torus), std::nullopt, std::nullopt,
                   o.torus_periods};
     if (t.start.solved) {
@@ -192,7 +192,8 @@ json BifurcationJson(const BifurcationPoint& b) {
     out["multiplier"] = {JsonNumber(b.multiplier.real()), JsonNumber(b.multiplier.imag())};
     out["multiplier_modulus"] = JsonNumber(std::abs(b.multiplier));
   }
-  if (b.type == BifurcationType::kNeimarkSacker) out["torus_frequency"] = JsonNumber(b.torus_frequency);
+  if (b.type == BifurcationType::kNeimarkSacker && !b.Jump()) out["torus_frequency"] = JsonNumber(b.torus_frequency);
+  out["jump"] = b.Jump();
   return out;
 }
 

@@ -20,6 +20,7 @@
 #include "rmhb/model/internal/compile.h"
 #include "rmhb/model/internal/nonsmooth.h"
 #include "rmhb/model/model_error.h"
+#include "rmhb/pipeline/branch.h"
 #include "rmhb/pipeline/model.h"
 #include "rmhb/pipeline/settings.h"
 #include "rmhb/pipeline/solve.h"
@@ -376,6 +377,38 @@ TEST(NonSmooth, AccuracyTargetDoublesTheSamplesOfAJump) {
   EXPECT_GT(hb.sampling_estimate, 1e-5);                      // measured 1.3e-4
   EXPECT_LE(hb.state_estimate, 1e-3);
   EXPECT_LT(run.error, hb.state_estimate);  // measured 1.1e-4 against 9.4e-4
+}
+
+// NLvib's example 03 (the unilateral spring) where its resonant orbit stops
+// touching the gap: the multipliers jump from an unstable complex pair
+// (|mu| 1.16) to the free oscillator's (0.94) within 4e-6 in W, a crossing
+// that event-located shooting finds at W = 0.5818999 (bifurcation_benchmark
+// at N = 42). It was dismissed as a neutral saddle (the location never
+// reached the circle); now it is reported there as a jump, not located.
+TEST(NonSmooth, GrazingNeimarkSackerIsReportedAsAJump) {
+  const std::string file =
+      Write("unilateral", "variables: [x1, x2]\nparameters: {W: 0.5835}\nequations:\n"
+                          "  - \"x1'' + 0.03*(x1' - x2') + x1 - x2 + 100*max(x1 - 1, 0) = 0\"\n"
+                          "  - \"x2'' + 0.03*(2*x2' - x1') + 2*x2 - x1 = 0.1*cos(W*t)\"\nfrequencies: [W]\n");
+  SolveSettings settings;
+  settings.order = 21;
+  settings.order_given = true;
+  const PreparedSolve prepared = PrepareSolve(LoadModel(file), settings);
+  ContinueOptions o;
+  o.parameter = "W";
+  o.from = 0.5835;
+  o.to = 0.5805;
+  o.steps = 4;
+  o.harmonic_balance = prepared.options;
+  const BranchSummary b = ContinueModel(prepared.model, prepared.guess, o);
+  ASSERT_TRUE(b.continuation.completed()) << b.FullReport();
+  ASSERT_EQ(b.continuation.bifurcations.size(), 1u) << b.FullReport();
+  const BifurcationPoint& ns = b.continuation.bifurcations[0];
+  std::printf("%s\n", ns.Describe("W").c_str());
+  EXPECT_EQ(ns.type, BifurcationType::kNeimarkSacker);
+  EXPECT_TRUE(ns.Jump());
+  EXPECT_FALSE(ns.located);
+  EXPECT_NEAR(ns.parameter, 0.5818999, 1e-5);  // N = 21: 0.5819007
 }
 
 TEST(NonSmooth, ModelErrorsNameThePlace) {

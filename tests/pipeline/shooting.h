@@ -52,19 +52,22 @@ inline bool FlowAndMonodromy(const Model& model, double w, const Eigen::VectorXd
 }
 
 // The orbit of period multiple * 2 pi / w of the model's original equations
-// forced at w, by Newton on phi_T(y) - y from y.
+// forced at w, by Newton on phi_T(y) - y from y; no multipliers when Newton
+// does not converge (near a turning point a multiplier near 1 makes it
+// wander: a crossing "located" on such orbits was 1e-14 from the start).
 inline Orbit Shoot(const Model& model, double w, Eigen::VectorXd y, int multiple = 1) {
   const double T = multiple * 2 * M_PI / w;
   Eigen::VectorXd end;
   Eigen::MatrixXd monodromy;
-  for (int it = 0; it < 30; ++it) {
+  bool converged = false;
+  for (int it = 0; it < 30 && !converged; ++it) {
     if (!FlowAndMonodromy(model, w, y, T, &end, &monodromy)) return {y, {}};
     const Eigen::MatrixXd A = monodromy - Eigen::MatrixXd::Identity(y.size(), y.size());
     const Eigen::VectorXd step = A.partialPivLu().solve(end - y);
     y -= step;
-    if (step.norm() <= 1e-13 * (1 + y.norm())) break;
+    converged = step.norm() <= 1e-11 * (1 + y.norm());
   }
-  if (!FlowAndMonodromy(model, w, y, T, &end, &monodromy)) return {y, {}};
+  if (!converged || !FlowAndMonodromy(model, w, y, T, &end, &monodromy)) return {y, {}};
   const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(monodromy, false).eigenvalues();
   return {y, std::vector<std::complex<double>>(mu.data(), mu.data() + mu.size())};
 }
@@ -84,7 +87,8 @@ inline double Distance(const std::vector<std::complex<double>>& mu, bool period_
 // The parameter w in [a, b] where the multipliers cross, by the Illinois
 // method (regula falsi that halves the stale end's value) on the shooting
 // orbit's multipliers, so that it never leaves the bracket (a plain secant
-// once ran off to w = 5e5); *y follows the orbit. Where the critical
+// once ran off to w = 5e5), and only onto a point where they cross (|g| <=
+// 1e-6); *y follows the orbit. Where the critical
 // multiplier is not of its kind at b (a complex pair not yet split into the
 // real one that crosses -1), b moves halfway to a first. NAN: no crossing.
 inline double ReferenceCrossing(const Model& model, double a, double b, bool period_doubling, Eigen::VectorXd* y) {
@@ -115,6 +119,9 @@ inline double ReferenceCrossing(const Model& model, double a, double b, bool per
     b = c, gb = gc, ob = oc;
     if (std::abs(gb) <= 1e-12) break;
   }
+  // A bracket that closed on a jump of the multipliers (the orbit lost past a
+  // turning point) is no crossing.
+  if (!(std::abs(gb) <= 1e-6)) return NAN;
   *y = ob.y;
   return b;
 }
