@@ -408,11 +408,6 @@ HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& probl
   return SolveAtOrder(problem, guess, options);
 }
 
-// Kinks and jumps make the spectrum decay algebraically (METHOD.md s.15).
-DecayModel DecayOf(const HarmonicBalanceProblem& problem) {
-  return problem.system.HasNonSmooth() ? DecayModel::kAlgebraic : DecayModel::kGeometric;
-}
-
 // The estimate of the quantity the tolerance is on (METHOD.md s.8): the
 // frequency only when the problem has an unknown one and it was asked for.
 double Targeted(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions& options,
@@ -561,7 +556,7 @@ HarmonicBalanceSummary SelectIndexSet(const HarmonicBalanceProblem& problem, con
   for (;;) {
     if (!current.converged() || !current.solution)
       return stop(current, "the solve on " + std::to_string(basis.size()) + " harmonics failed");
-    const TruncationEstimate e = EstimateTruncation(*current.solution, lower ? &*lower : nullptr, DecayOf(problem));
+    const TruncationEstimate e = EstimateTruncation(*current.solution, lower ? &*lower : nullptr, DecayFor(problem.system));
     Record(problem, options, e, &current);
     std::vector<std::vector<int>> added = Enrich(*current.solution, threshold);
     if (current.truncation_estimate <= options.tolerance && (e.calibrated || added.empty())) break;
@@ -689,7 +684,7 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
                                    const HarmonicBalanceOptions& options) {
   HarmonicBalanceOptions o = options;
   o.tolerance = 0;
-  const DecayModel decay = DecayOf(problem);
+  const DecayModel decay = DecayFor(problem.system);
   std::optional<HarmonicSolution> lower;
   HarmonicBalanceSummary current = SolveAtHalfOrder(problem, initial_guess, o, &lower);
   // The first step from the half order may go straight to the start order.

@@ -28,6 +28,10 @@
 namespace rmhb {
 
 enum class DecayModel { kGeometric, kAlgebraic };
+// Kinks and jumps (PolynomialSystem::HasNonSmooth) decay algebraically.
+inline DecayModel DecayFor(const PolynomialSystem& system) {
+  return system.HasNonSmooth() ? DecayModel::kAlgebraic : DecayModel::kGeometric;
+}
 
 struct TruncationEstimate {
   DecayModel model = DecayModel::kGeometric;

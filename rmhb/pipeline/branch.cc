@@ -11,6 +11,7 @@
 #include "rmhb/pipeline/report.h"
 #include "rmhb/pipeline/start.h"
 #include "rmhb/pipeline/torus.h"
+#include "rmhb/truncation_estimate.h"
 
 namespace rmhb {
 namespace {
@@ -341,6 +342,7 @@ std::string ContinueOptions::IsValid() const {
   if (!(torus_periods > 0) || !(validate_tolerance > 0)) return "continuation: torus_periods and validate_tolerance must be > 0";
   if (const std::string why = torus.IsValid(); !why.empty()) return "continuation: torus: " + why;
   if (!(tail_tolerance > 0)) return "continuation: tail_tolerance must be > 0";
+  if (max_enrichments < 0 || max_order_raises < 0) return "continuation: max_enrichments and max_order_raises must be >= 0";
   if (max_denominator < 1 || max_tongues < 0) return "continuation: max_denominator must be >= 1, max_tongues >= 0";
   if (const std::string why = torus_stability.IsValid(); !why.empty()) return "continuation: torus stability: " + why;
   return "";
@@ -371,6 +373,38 @@ std::function<std::string(const ContinuationPoint&)> TailWatch(double tolerance)
                   tail, tolerance, kUnresolved, w[1] / w[0]);
     return text;
   };
+}
+
+// A periodic branch with an accuracy target (ContinueOptions::max_order_raises):
+// stops where a point's coefficient-tail estimate (EstimateTruncation without
+// calibration: no lower order at hand per point) exceeds `threshold`.
+constexpr const char* kOrderShort = "the order no longer meets the accuracy target";
+std::function<std::string(const ContinuationPoint&)> OrderWatch(double threshold, DecayModel decay) {
+  return [threshold, decay](const ContinuationPoint& p) -> std::string {
+    const double estimate = EstimateTruncation(p.solution, nullptr, decay).state;
+    if (estimate <= threshold) return "";
+    char text[300];
+    std::snprintf(text, sizeof text, "the coefficient tail estimates %.2e (> %.1e) at order %d: %s", estimate,
+                  threshold, p.solution.basis().order(), kOrderShort);
+    return text;
+  };
+}
+
+// The watch's threshold on the tail estimate for a stretch that starts on
+// `first`, whose order selection estimated `estimate` (calibrated; <= 0 when
+// unknown): the target scaled by first's ratio of tail to estimate (the
+// calibration's constant carried along the stretch), and at least twice
+// first's own tail, so that the watch fires on a change along the branch,
+// not at its start.
+// The watch fires at a quarter of the target (scaled), the margin order
+// selection aims at (NextOrder): the calibration's constant drifts along a
+// branch (a Duffing branch 2.3e-10 from CVODE at its end with the full
+// target, the constant taken at W = 0.39 and the end at W = 3).
+constexpr double kWatchMargin = 0.25;
+double WatchThreshold(const HarmonicSolution& first, double estimate, double target, DecayModel decay) {
+  const double tail = EstimateTruncation(first, nullptr, decay).state;
+  const double scaled = estimate > 0 && tail > 0 ? target * tail / estimate : target;
+  return std::max(kWatchMargin * scaled, 2 * tail);
 }
 
 // Where the locked orbit is first sought: the beat Omega = q w2 - p w1
@@ -541,14 +575,28 @@ std::optional<HarmonicSolution> CrossTongue(const Model& model, const ContinueOp
   return resumed;
 }
 
-// Appends a later stretch of the torus branch to the first.
+// Appends a later stretch of the branch to the first (a torus past an
+// enrichment or a tongue, a periodic orbit past an order raise), with its
+// bifurcations and counts; `order` and `samples` stay the first stretch's.
 void AppendStretch(ContinuationSummary stretch, ContinuationSummary* branch) {
   const double offset = branch->arclength;
+  const int first_point = static_cast<int>(branch->points.size());
+  const int first_bifurcation = static_cast<int>(branch->bifurcations.size());
   for (ContinuationPoint& p : stretch.points) {
     p.arclength += offset;
-    p.bifurcation = -1;
+    p.folds_before += branch->num_folds;
+    if (p.bifurcation >= 0) p.bifurcation += first_bifurcation;
     branch->points.push_back(std::move(p));
   }
+  for (BifurcationPoint& b : stretch.bifurcations) {
+    b.point += first_point;
+    branch->bifurcations.push_back(std::move(b));
+  }
+  branch->num_folds += stretch.num_folds;
+  branch->hill_points += stretch.hill_points;
+  branch->monodromy_points += stretch.monodromy_points;
+  branch->harmonic_monodromy_points += stretch.harmonic_monodromy_points;
+  branch->stability_seconds += stretch.stability_seconds;
   branch->status = stretch.status;
   branch->message = stretch.message;
   branch->accepted_steps += stretch.accepted_steps;
@@ -578,17 +626,48 @@ std::optional<HarmonicSolution> Enriched(const ContinuationProblem& problem, con
   return s.solution;
 }
 
+// The periodic orbit at `last`'s parameter with its order selected again for
+// the target, warm from `last` (METHOD.md s.8 and s.15): a higher order, or
+// the same one with its estimate measured again (the watch then starts from
+// it); nullopt, saying why, when that selection fails or stops short (a hard
+// target).
+std::optional<HarmonicBalanceSummary> Reselected(const ContinuationProblem& problem, const ContinueOptions& o,
+                                                 const ContinuationPoint& last, std::string* why) {
+  HarmonicBalanceOptions h = o.harmonic_balance;
+  h.order = last.solution.basis().order();
+  HarmonicBalanceSummary s = SolveHarmonicBalance(problem.build(last.parameter), last.solution, h);
+  if (s.usable()) return s;
+  *why = "the order selection there: " + s.solver.message;
+  return std::nullopt;
+}
+
 // The branch, and its reports. A torus' trace stops where the basis no
 // longer resolves it; on the adaptive index set the set is enriched there
 // and the trace goes on (Enriched); otherwise a forced torus is taken across
 // the locking tongue (CrossTongue) and traced on past it, stretch by
 // stretch.
 void TraceModelBranch(const Model& model, const ContinueOptions& o, ContinuationProblem problem,
-                      const ContinuationOptions& options, HarmonicSolution first, BranchSummary* b) {
+                      const ContinuationOptions& options, HarmonicSolution first, double first_estimate,
+                      BranchSummary* b) {
   const bool torus = b->bases > 1;
-  if (torus) problem.stop_when = TailWatch(o.tail_tolerance);
+  const double target = o.harmonic_balance.tolerance;
+  const DecayModel decay = DecayFor(model.problem.system);
+  if (torus)
+    problem.stop_when = TailWatch(o.tail_tolerance);
+  else if (target > 0)
+    problem.stop_when = OrderWatch(WatchThreshold(first, first_estimate, target, decay), decay);
+  // After an order raise the trace resumes at the raise's point along the
+  // branch's chord there (it may be heading away from `end`, past a fold).
+  std::optional<std::pair<double, HarmonicSolution>> resume;
+  // Each watch's firing selects the order again; the threshold doubles the
+  // tail at least, so a branch sees few (a cap against a tail that grows
+  // without bound).
+  constexpr int kMaxReselections = 32;
+  int reselections = 0;
   for (int stretch = 0;; ++stretch) {
-    ContinuationSummary s = TraceBranch(problem, first, options);
+    ContinuationSummary s = resume ? TraceBranchFrom(problem, resume->first, first, resume->second, options)
+                                   : TraceBranch(problem, first, options);
+    resume.reset();
     const size_t before = stretch == 0 ? 0 : b->continuation.points.size();
     if (stretch == 0)
       b->continuation = std::move(s);
@@ -615,6 +694,29 @@ void TraceModelBranch(const Model& model, const ContinueOptions& o, Continuation
         first = *richer;
         continue;
       }
+    }
+    if (!torus && stopped && c.message.find(kOrderShort) != std::string::npos && c.points.size() >= 2 &&
+        static_cast<int>(b->order_raises.size()) < o.max_order_raises && ++reselections <= kMaxReselections) {
+      std::string why;
+      const ContinuationPoint& last = c.points.back();
+      if (std::optional<HarmonicBalanceSummary> selected = Reselected(problem, o, last, &why)) {
+        const int before_order = last.solution.basis().order();
+        if (selected->order > before_order) b->order_raises.push_back({last.parameter, before_order, selected->order});
+        const HarmonicBasis& basis = selected->solution->basis();
+        const ContinuationPoint& previous = c.points[c.points.size() - 2];
+        HarmonicSolution chord = last.solution.OnBasis(basis);
+        chord = HarmonicSolution(basis, chord.frequencies(),
+                                 chord.coefficients() - previous.solution.OnBasis(basis).coefficients(),
+                                 chord.variables());
+        resume.emplace(last.parameter, std::move(chord));
+        // The reselected solution replaces the last point.
+        b->continuation.points.pop_back();
+        b->reports.pop_back();
+        first = *selected->solution;
+        problem.stop_when = OrderWatch(WatchThreshold(first, selected->state_estimate, target, decay), decay);
+        continue;
+      }
+      b->continuation.message += "; " + why;
     }
     if (!torus || !stopped || !o.locking || !IsForcedTorus(model) || stretch >= o.max_tongues ||
         c.points.size() - before < 2)
@@ -659,7 +761,9 @@ BranchSummary ContinueModel(const Model& model, const HarmonicSolution& guess, c
   b.has_reference = start.reference.has_frequency() || start.reference.has_amplitude();
   b.validated = o.validate;
   b.bases = static_cast<int>(start.problem.frequencies.size());
-  TraceModelBranch(model, o, problem, options, started.summary.usable() ? *started.summary.solution : guess, &b);
+  const bool usable = started.summary.usable();
+  TraceModelBranch(model, o, problem, options, usable ? *started.summary.solution : guess,
+                   usable ? started.summary.state_estimate : -1, &b);
   for (size_t i = 0; i < b.continuation.points.size(); ++i)
     if (!b.reports[i].physical()) b.non_physical.push_back(i);
   b.switched = o.switch_branches;
@@ -751,6 +855,12 @@ std::string BranchSummary::FullReport(bool table) const {
                   continuation.parameter.c_str(), e.parameter, e.before, e.after);
     out += text;
   }
+  for (const Enrichment& e : order_raises) {
+    char text[200];
+    std::snprintf(text, sizeof text, "order raised for the target at %s = %.10g (%d -> %d)\n",
+                  continuation.parameter.c_str(), e.parameter, e.before, e.after);
+    out += text;
+  }
   if (table) out += Table(continuation, reports, validated, has_reference);
   for (const TongueReport& t : tongues) {
     out += "\n" + t.Describe(continuation.parameter) + "\n";
@@ -824,6 +934,11 @@ json BranchSummary::ToJson() const {
     for (const Enrichment& enrichment : enrichments)
       e.push_back({{"parameter", enrichment.parameter}, {"before", enrichment.before}, {"after", enrichment.after}});
     out["enrichments"] = e;
+  } else {
+    json r = json::array();
+    for (const Enrichment& raise : order_raises)
+      r.push_back({{"parameter", raise.parameter}, {"before", raise.before}, {"after", raise.after}});
+    out["order_raises"] = r;
   }
   if (!switched) return out;
   json doubled_json = json::array(), tori_json = json::array();

@@ -69,6 +69,13 @@ struct ContinueOptions {
   // there is solved again at that point with the set enriched from its
   // solution (METHOD.md s.8) and traced on, at most this many times.
   int max_enrichments = 4;
+  // A periodic branch with an accuracy target (harmonic_balance.tolerance):
+  // where a point's coefficient-tail estimate (EstimateTruncation, without
+  // calibration) exceeds the target and twice that of the order's own first
+  // point, the order is selected again there for the target, warm from that
+  // point, and the trace goes on at the higher order (at most
+  // max_order_raises times); a selection short of the target stops the trace.
+  int max_order_raises = 6;
   TorusStabilityOptions torus_stability;
   // A forced torus that stops near w2/w1 = p/q (q <= max_denominator) is
   // taken across the locking tongue: the periodic orbit of base w1/q is
@@ -163,6 +170,8 @@ struct BranchSummary {
     int before, after;
   };
   std::vector<Enrichment> enrichments;
+  // A periodic branch's orders raised for its target: before/after are orders.
+  std::vector<Enrichment> order_raises;
   bool switch_failed() const;
 
   std::string BriefReport() const;  // the continuation's line

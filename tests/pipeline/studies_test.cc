@@ -130,6 +130,38 @@ TEST(ContinueModel, EveryPointOfTheLinearResponseIsExactAndValidated) {
   EXPECT_TRUE(j["folds"].empty());
 }
 
+// `--tol` along a branch: the first point's order meets the target below the
+// superharmonic resonances (W = 0.3); as the tail grows past a quarter of the
+// target (scaled by the first selection's calibration) the order is selected
+// again there and the trace goes on at the higher order, every point within
+// the target of CVODE. (At this branch the first order would also have
+// stayed within it, 7.3e-12: the watch is an estimate, conservative here.)
+TEST(ContinueModel, TheOrderFollowsTheTargetAlongTheBranch) {
+  SolveSettings settings;
+  settings.tol = 1e-10;
+  const PreparedSolve p = PrepareSolve(LoadModel(kDuffing, {{"W", 0.3}, {"F", 0.5}}), settings);
+  ContinueOptions options;
+  options.parameter = "W";
+  options.from = 0.3;
+  options.to = 1.2;
+  options.stability = false;
+  options.validate = true;
+  options.harmonic_balance = p.options;
+  const BranchSummary b = ContinueModel(p.model, p.guess, options);
+  ASSERT_EQ(b.status, BranchStatus::kCompleted) << b.FullReport();
+  ASSERT_GE(b.order_raises.size(), 1u) << b.FullReport();
+  const BranchSummary::Enrichment& raise = b.order_raises[0];
+  std::printf("order raised at W = %.6f (%d -> %d)\n", raise.parameter, raise.before, raise.after);
+  EXPECT_GT(raise.after, raise.before);
+  double worst = 0;
+  for (const BranchPointReport& r : b.reports) worst = std::max(worst, r.validation_error);
+  std::printf("largest validation error over %zu points: %.1e\n", b.reports.size(), worst);
+  EXPECT_LT(worst, 1e-10);  // measured 1.0e-11
+  EXPECT_EQ(b.ToJson()["order_raises"].size(), b.order_raises.size());
+  EXPECT_EQ(b.continuation.points.back().solution.basis().order(), b.order_raises.back().after);
+  EXPECT_NE(b.FullReport().find("order raised for the target at W = "), std::string::npos);
+}
+
 TEST(ContinueModel, TheHardeningDuffingBranchHasTwoFoldsAndAnUnstableMiddle) {
   const PreparedSolve p = Prepared(kDuffing, {{"W", 0.8}, {"c", 0.15}}, 10);
   ContinueOptions options;
