@@ -392,14 +392,12 @@ std::function<std::string(const ContinuationPoint&)> OrderWatch(double threshold
 
 // The watch's threshold on the tail estimate for a stretch that starts on
 // `first`, whose order selection estimated `estimate` (calibrated; <= 0 when
-// unknown): the target scaled by first's ratio of tail to estimate (the
-// calibration's constant carried along the stretch), and at least twice
+// unknown): a quarter of the target (the margin NextOrder aims at: the
+// calibration's constant drifts along a branch, a Duffing branch ended
+// 2.3e-10 from CVODE with the full target) scaled by first's ratio of tail to
+// estimate (that constant carried along the stretch), and at least twice
 // first's own tail, so that the watch fires on a change along the branch,
 // not at its start.
-// The watch fires at a quarter of the target (scaled), the margin order
-// selection aims at (NextOrder): the calibration's constant drifts along a
-// branch (a Duffing branch 2.3e-10 from CVODE at its end with the full
-// target, the constant taken at W = 0.39 and the end at W = 3).
 constexpr double kWatchMargin = 0.25;
 double WatchThreshold(const HarmonicSolution& first, double estimate, double target, DecayModel decay) {
   const double tail = EstimateTruncation(first, nullptr, decay).state;
