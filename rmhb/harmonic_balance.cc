@@ -434,7 +434,7 @@ void Record(const HarmonicBalanceProblem& problem, const HarmonicBalanceOptions&
 // (sum of (1/1.5^3)^i ~ 1.4). The step may always reach `reach` (the
 // requested start order, from the half-order probe of SelectOrder). An
 // algebraic decay (a non-smooth model) needs orders tens of times the start
-// for a tight target, and its power law extrapolates far: steps up to 4x.
+// for a tight target, and its power law extrapolates far: steps up to 2x.
 int NextOrder(int order, int bases, const TruncationEstimate& e, double tolerance, int reach) {
   // Half for an algebraic decay: its estimate extrapolates the tail's
   // N^(1 - p), and the error falls faster (N^-2.2 where the tail gave N^-2 on
