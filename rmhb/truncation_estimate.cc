@@ -168,7 +168,11 @@ void CalibrateAlgebraic(const HarmonicSolution& s, const HarmonicSolution& lower
   const double lower_tail = Tail(lower, DecayModel::kAlgebraic, &lower_fit, p);
   if (!(lower_tail > 1e-13)) return;
   const double difference = StateDifference(s, lower, DecayModel::kAlgebraic);
-  const double r = p > 0 ? std::pow(double(lower_fit.top_level) / e->top_level, p - 1) : 0.5;
+  // Without a decay, or with no higher level (an index set grown within its
+  // reach), the difference itself (r = 1/2).
+  const double r = p > 0 && lower_fit.top_level < e->top_level
+                       ? std::pow(double(lower_fit.top_level) / e->top_level, p - 1)
+                       : 0.5;
   constexpr double kSafety = 1.25;
   const double calibrated = std::max(0.1, kSafety * difference / lower_tail) * e->tail;
   e->state = std::max(calibrated, kSafety * difference * r / (1 - r));
