@@ -635,9 +635,7 @@ HarmonicBalanceSummary MeasureSampling(const HarmonicBalanceProblem& problem, Ha
     }
     const HarmonicSolution& a = *next.solution;
     const HarmonicSolution& b = *current.solution;
-    double shift = 0;
-    for (size_t i = 0; i < a.frequencies().size(); ++i)
-      shift = std::max(shift, std::abs(a.frequencies()[i] - b.frequencies()[i]) / std::abs(a.frequencies()[i]));
+    const double shift = FrequencyDifference(a, b);
     next.sampling_estimate = StateDifference(a, b, DecayModel::kAlgebraic);
     next.orders_tried = current.orders_tried;
     next.tolerance = current.tolerance;

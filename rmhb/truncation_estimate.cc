@@ -176,9 +176,7 @@ void CalibrateAlgebraic(const HarmonicSolution& s, const HarmonicSolution& lower
   constexpr double kSafety = 1.25;
   const double calibrated = std::max(0.1, kSafety * difference / lower_tail) * e->tail;
   e->state = std::max(calibrated, kSafety * difference * r / (1 - r));
-  double frequency = 0;
-  for (size_t b = 0; b < s.frequencies().size(); ++b)
-    frequency = std::max(frequency, std::abs(lower.frequencies()[b] - s.frequencies()[b]) / std::abs(s.frequencies()[b]));
+  const double frequency = FrequencyDifference(s, lower);
   e->frequency = std::min(e->state, kSafety * frequency * std::max(e->tail / lower_tail, r / (1 - r)));
   e->calibrated = true;
 }
@@ -210,6 +208,13 @@ std::vector<double> HarmonicSizes(const HarmonicSolution& s) {
   for (int j = 0; j < c.rows(); ++j)
     for (int k = 0; k < s.basis().size(); ++k) size[k] = std::max(size[k], Magnitude(c, j, k) / scale[j]);
   return size;
+}
+
+double FrequencyDifference(const HarmonicSolution& s, const HarmonicSolution& other) {
+  double largest = 0;
+  for (size_t b = 0; b < s.frequencies().size(); ++b)
+    largest = std::max(largest, std::abs(other.frequencies()[b] - s.frequencies()[b]) / std::abs(s.frequencies()[b]));
+  return largest;
 }
 
 double StateDifference(const HarmonicSolution& s, const HarmonicSolution& other, DecayModel model) {
@@ -253,9 +258,7 @@ TruncationEstimate EstimateTruncation(const HarmonicSolution& s, const HarmonicS
   // Both at round-off: nothing to calibrate against.
   if (!(lower_tail > 1e-13)) return e;
   const double state = StateDifference(s, *lower, model);
-  double frequency = 0;
-  for (size_t b = 0; b < s.frequencies().size(); ++b)
-    frequency = std::max(frequency, std::abs(lower->frequencies()[b] - s.frequencies()[b]) / std::abs(s.frequencies()[b]));
+  const double frequency = FrequencyDifference(s, *lower);
   e.calibrated = true;
   // The lower solution's error is its difference from this one (this one
   // being far closer): the constant is that error over its tail, taken

@@ -62,6 +62,9 @@ TruncationEstimate EstimateTruncation(const HarmonicSolution& s, const HarmonicS
 double StateDifference(const HarmonicSolution& s, const HarmonicSolution& other,
                        DecayModel model = DecayModel::kGeometric);
 
+// max over the base frequencies of |w_other - w_s| / |w_s|.
+double FrequencyDifference(const HarmonicSolution& s, const HarmonicSolution& other);
+
 // Per harmonic k of s.basis(): max over variables of |c_jk| / scale_j
 // (scale_j: the variable's largest coefficient, at least 1e-6 of the largest
 // over all variables), harmonic 0 included.
