@@ -46,6 +46,7 @@ LyapunovReport LyapunovExponents(const OdeSystem& system, const Eigen::VectorXd&
   LyapunovReport report;
   double t = t0;
   const int halfway = options.segments / 2;
+  report.segment_states.resize(options.segments, n);
   for (int s = 0; s < options.segments; ++s) {
     // One segment per call: the QR below changes the state, which CVODE's
     // history must not carry over.
@@ -57,6 +58,7 @@ LyapunovReport LyapunovExponents(const OdeSystem& system, const Eigen::VectorXd&
     }
     t += options.segment;
     z = r.trajectory.states.row(0).transpose();
+    report.segment_states.row(s) = z.head(n).transpose();
     Eigen::Map<Eigen::MatrixXd> phi(z.data() + n, n, n);
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(phi);
     const Eigen::MatrixXd R = qr.matrixQR().triangularView<Eigen::Upper>();
@@ -69,6 +71,7 @@ LyapunovReport LyapunovExponents(const OdeSystem& system, const Eigen::VectorXd&
     if (s + 1 == halfway) half = sum / (t - t0);
   }
   report.time = t - t0;
+  report.segment_states.conservativeResize(static_cast<long>(std::lround(report.time / options.segment)), n);
   report.ok = report.message.empty() && report.time > 0;
   if (report.ok) {
     const Eigen::VectorXd exponents = sum / report.time;

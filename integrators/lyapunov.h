@@ -40,6 +40,9 @@ struct LyapunovReport {
   // max_i |lambda_i(T) - lambda_i(T / 2)|: the exponents' convergence.
   double spread = 0;
   double time = 0;                 // the span T integrated
+  // The trajectory y at the end of each segment (one row each, at t0 +
+  // (i + 1) segment): whether it stayed where it started, e.g. on a torus.
+  Eigen::MatrixXd segment_states;
   long steps = 0;
   double seconds = 0;
   std::string BriefReport() const;

@@ -11,6 +11,7 @@
 #include <Eigen/UmfPackSupport>
 #include <Spectra/GenEigsSolver.h>
 
+#include "rmhb/dense_factorization.h"
 #include "rmhb/sampling.h"
 
 namespace rmhb {
@@ -22,12 +23,24 @@ struct Candidate {
 };
 
 // y = (J + sigma B)^-1 (-B x) for Spectra: its eigenvalues mu = 1 / (lambda -
-// sigma) of J v = lambda (-B) v, largest |mu| for lambda nearest sigma.
+// sigma) of J v = lambda (-B) v, largest |mu| for lambda nearest sigma. A
+// torus' Hill matrices are nearly dense (every harmonic couples to most
+// others), where UMFPACK's sparse solves cost ten times a dense LU's: up to
+// kDenseShiftInvert rows, a fill above a tenth is factorised densely.
 class ShiftInvert {
  public:
   using Scalar = double;
+  static constexpr long kDenseShiftInvert = 6000;
   ShiftInvert(const Eigen::SparseMatrix<double>& J, const Eigen::SparseMatrix<double>& B, double sigma)
       : B_(B), shifted_(J + sigma * B) {
+    const long n = shifted_.rows();
+    dense_ = n <= kDenseShiftInvert && shifted_.nonZeros() > n * n / 10;
+    if (dense_) {
+      dense_lu_.compute(Eigen::MatrixXd(shifted_));
+      if (dense_lu_.singular())
+        throw std::runtime_error("Hill's method: J + sigma B is singular at the shift (dense LU)");
+      return;
+    }
     lu_.compute(shifted_);
     if (lu_.info() != Eigen::Success)
       throw std::runtime_error("Hill's method: J + sigma B is singular at the shift (UMFPACK)");
@@ -36,36 +49,67 @@ class ShiftInvert {
   Eigen::Index cols() const { return B_.cols(); }
   void perform_op(const double* x, double* y) const {
     const Eigen::Map<const Eigen::VectorXd> in(x, B_.cols());
-    Eigen::Map<Eigen::VectorXd>(y, B_.rows()) = lu_.solve(Eigen::VectorXd(-(B_ * in)));
+    const Eigen::VectorXd rhs = -(B_ * in);
+    Eigen::Map<Eigen::VectorXd> out(y, B_.rows());
+    if (dense_)
+      out = dense_lu_.solve(rhs);
+    else
+      out = lu_.solve(rhs);
   }
 
  private:
   const Eigen::SparseMatrix<double>& B_;
   Eigen::SparseMatrix<double> shifted_;  // UMFPACK's solves read it again
+  bool dense_ = false;
+  DenseLu dense_lu_;  // LAPACK's (rmhb/dense_factorization.h)
   Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu_;
 };
 
-// Mean harmonic index of a perturbation p(t) = sum_k c_k e^{i k w t}, weighted
-// by |c_k|^2: the copy lambda + i m w of an exponent shifts it by -m.
-double HarmonicCentroid(const Eigen::VectorXcd& v, int variables, int coefficients) {
-  double moment = 0, weight = 0;
+// Mean harmonic index of a perturbation p(t) = sum_k c_k e^{i k.w t},
+// weighted by |c_k|^2, one component per base: the copy lambda + i m.w of
+// an exponent shifts it by -m. Its Euclidean length is how far from the
+// central harmonics the eigenvector sits.
+double HarmonicCentroid(const Eigen::VectorXcd& v, const HarmonicBasis& basis, int variables) {
+  const int C = basis.num_coefficients();
+  std::vector<double> moment(basis.num_bases(), 0.0);
+  double weight = 0;
   for (int j = 0; j < variables; ++j) {
-    const std::complex<double>* c = v.data() + static_cast<long>(j) * coefficients;
+    const std::complex<double>* c = v.data() + static_cast<long>(j) * C;
     weight += std::norm(c[0]);
-    for (int k = 1; 2 * k < coefficients; ++k) {
+    for (int k = 1; k < basis.size(); ++k) {
       const std::complex<double> a = c[2 * k - 1], b = c[2 * k], i(0, 1);
       const double plus = std::norm(0.5 * (a - i * b)), minus = std::norm(0.5 * (a + i * b));
-      moment += k * (plus - minus);
+      for (int base = 0; base < basis.num_bases(); ++base) moment[base] += basis.harmonic(k)[base] * (plus - minus);
       weight += plus + minus;
     }
   }
-  return weight > 0 ? moment / weight : 0;
+  if (weight == 0) return 0;
+  double squared = 0;
+  for (double m : moment) squared += (m / weight) * (m / weight);
+  return std::sqrt(squared);
+}
+
+// Whether a and b are copies of one exponent: a - b = i k.w for a harmonic
+// k != 0 of the basis (either sign). One base: k = round(Im(a - b) / w).
+bool SameExponent(std::complex<double> a, std::complex<double> b, const HarmonicBasis& basis,
+                  const std::vector<double>& w) {
+  const double w_max = *std::max_element(w.begin(), w.end());
+  const double tolerance = 1e-6 * (w_max + std::abs(a));
+  const std::complex<double> d = a - b;
+  if (std::abs(d.real()) >= tolerance) return false;
+  if (basis.num_bases() == 1) {
+    const double m = std::round(d.imag() / w[0]);
+    return m != 0 && std::abs(d - std::complex<double>(0, m * w[0])) < tolerance;
+  }
+  for (int k = 1; k < basis.size(); ++k)
+    if (std::abs(std::abs(d.imag()) - std::abs(basis.Frequency(k, w))) < tolerance) return true;
+  return false;
 }
 
 // Keeps, per differential state, the candidate whose eigenvector is most
-// central, one per class lambda + i m w.
-void SelectPhysical(std::vector<Candidate> candidates, int states, double w,
-                    HillStabilityReport* report) {
+// central, one per class lambda + i k.w.
+void SelectPhysical(std::vector<Candidate> candidates, int states, const HarmonicBasis& basis,
+                    const std::vector<double>& w, HillStabilityReport* report) {
   report->eigenvalues = static_cast<int>(candidates.size());
   report->exponents.clear();
   std::stable_sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
@@ -73,14 +117,10 @@ void SelectPhysical(std::vector<Candidate> candidates, int states, double w,
   });
   // A real exponent with a negative multiplier sits on the zone boundary:
   // lambda +- i w/2 are equally central; keep one.
-  auto same_modulo_w = [&](std::complex<double> a, std::complex<double> b) {
-    const double m = std::round((a.imag() - b.imag()) / w);
-    return m != 0 && std::abs(a - b - std::complex<double>(0, m * w)) < 1e-6 * (w + std::abs(a));
-  };
   for (const Candidate& c : candidates) {
     if (static_cast<int>(report->exponents.size()) == states) break;
     bool copy = false;
-    for (const auto& kept : report->exponents) copy = copy || same_modulo_w(c.lambda, kept);
+    for (const auto& kept : report->exponents) copy = copy || SameExponent(c.lambda, kept, basis, w);
     if (!copy) report->exponents.push_back(c.lambda);
   }
 }
@@ -88,15 +128,16 @@ void SelectPhysical(std::vector<Candidate> candidates, int states, double w,
 // The exponents nearest the imaginary axis by shift-invert Arnoldi
 // (Spectra) on the sparse Hill matrices, more of them until every
 // differential state has its physical one (METHOD.md s.17).
-void ShiftInvertExponents(CollocationResidual& residual, const Eigen::VectorXd& x, int n, int C,
-                          double w, const HarmonicBasis& basis, HillStabilityReport* report) {
+void ShiftInvertExponents(CollocationResidual& residual, const Eigen::VectorXd& x, int n,
+                          const std::vector<double>& w, const HarmonicBasis& basis, HillStabilityReport* report) {
+  const int C = basis.num_coefficients();
   Eigen::SparseMatrix<double> A, B;
   residual.LinearizationParts(x, &A, &B);
   const int size = n * C;
   std::vector<Eigen::Triplet<double>> d;
   for (int j = 0; j < n; ++j)
     for (int k = 1; k < basis.size(); ++k) {
-      const double rate = basis.Frequency(k, {w});
+      const double rate = basis.Frequency(k, w);
       d.emplace_back(j * C + 2 * k - 1, j * C + 2 * k, rate);
       d.emplace_back(j * C + 2 * k, j * C + 2 * k - 1, -rate);
     }
@@ -109,7 +150,7 @@ void ShiftInvertExponents(CollocationResidual& residual, const Eigen::VectorXd& 
     if (B.col(k).nonZeros() > 0) differential[k / C] = true;
   const int states = static_cast<int>(std::count(differential.begin(), differential.end(), true));
   // A small real shift, off the trivial exponent 0 of an autonomous orbit.
-  const double sigma = 1e-2 * w;
+  const double sigma = 1e-2 * *std::min_element(w.begin(), w.end());
   ShiftInvert op(J, B, sigma);
   for (int nev = std::min(size - 2, 4 * states + 8);; nev = std::min(size - 2, 2 * nev)) {
     Spectra::GenEigsSolver<ShiftInvert> eigs(op, nev, std::min(size, 2 * nev + 1));
@@ -121,8 +162,8 @@ void ShiftInvertExponents(CollocationResidual& residual, const Eigen::VectorXd& 
     const Eigen::MatrixXcd vectors = eigs.eigenvectors();
     std::vector<Candidate> candidates;
     for (long i = 0; i < mu.size(); ++i)
-      if (std::abs(mu(i)) > 0) candidates.push_back({sigma + 1.0 / mu(i), HarmonicCentroid(vectors.col(i), n, C)});
-    SelectPhysical(std::move(candidates), states, w, report);
+      if (std::abs(mu(i)) > 0) candidates.push_back({sigma + 1.0 / mu(i), HarmonicCentroid(vectors.col(i), basis, n)});
+    SelectPhysical(std::move(candidates), states, basis, w, report);
     if (static_cast<int>(report->exponents.size()) == states || nev == size - 2) break;
   }
   if (static_cast<int>(report->exponents.size()) < states)
@@ -145,19 +186,21 @@ std::string HillStabilityReport::BriefReport() const {
   std::ostringstream out;
   out.precision(6);
   out << (stable ? "stable" : "unstable") << " (Hill, order " << order << ", " << ToString(eigensolver)
-      << "): max Re(lambda) "
-      << max_real_part << ", multipliers";
-  for (size_t i = 0; i < multipliers.size(); ++i)
-    out << (static_cast<int>(i) == trivial ? " [" : " ") << multipliers[i]
-        << (static_cast<int>(i) == trivial ? " trivial]" : "");
+      << "): max Re(lambda) " << max_real_part << (bases == 1 ? ", multipliers" : ", exponents");
+  const std::vector<std::complex<double>>& listed = bases == 1 ? multipliers : exponents;
+  for (size_t i = 0; i < listed.size(); ++i) {
+    const bool is_trivial = std::count(trivials.begin(), trivials.end(), static_cast<int>(i)) > 0;
+    out << (is_trivial ? " [" : " ") << listed[i] << (is_trivial ? " trivial]" : "");
+  }
   return out.str();
 }
 
-HillStabilityReport HillStability(const HarmonicBalanceProblem& problem,
-                                  const HarmonicSolution& solution, const HillOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  if (problem.frequencies.size() != 1 || solution.basis().num_bases() != 1)
-    throw std::invalid_argument("Hill's method: periodic solutions only (one base frequency)");
+namespace {
+
+void CheckApplies(const HarmonicBalanceProblem& problem, const HarmonicSolution& solution) {
+  if (problem.frequencies.size() != static_cast<size_t>(solution.basis().num_bases()))
+    throw std::invalid_argument("Hill's method: the problem has " + std::to_string(problem.frequencies.size()) +
+                                " base frequencies, the solution " + std::to_string(solution.basis().num_bases()));
   if (solution.num_variables() != problem.system.num_variables())
     throw std::invalid_argument("Hill's method: the solution has " +
                                 std::to_string(solution.num_variables()) + " variables, the system " +
@@ -169,70 +212,98 @@ HillStabilityReport HillStability(const HarmonicBalanceProblem& problem,
           " is pinned at t = 0 (a recast auxiliary defined through its derivative); its free "
           "constant adds a spurious neutral exponent. Use the Floquet multipliers of the "
           "original equations");
+}
 
+// The dense generalised eigenproblem J v = lambda (-B) v (QZ), every finite
+// eigenvalue a candidate.
+void DenseExponents(CollocationResidual& residual, const Eigen::VectorXd& x, int n,
+                    const std::vector<double>& w, const HarmonicBasis& basis, HillStabilityReport* report) {
+  const int C = basis.num_coefficients();
+  Eigen::MatrixXd value_part, derivative_part;
+  residual.LinearizationParts(x, &value_part, &derivative_part);
+  // J = A + B D(w): d/dt of (a_k cos + b_k sin)(k.w t) has cos-coefficient
+  // k.w b_k and sin-coefficient -k.w a_k.
+  Eigen::MatrixXd jacobian = value_part;
+  for (int j = 0; j < n; ++j)
+    for (int k = 1; k < basis.size(); ++k) {
+      const double rate = basis.Frequency(k, w);
+      const long c = static_cast<long>(j) * C;
+      jacobian.col(c + 2 * k) += rate * derivative_part.col(c + 2 * k - 1);
+      jacobian.col(c + 2 * k - 1) -= rate * derivative_part.col(c + 2 * k);
+    }
+  Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> solver(jacobian, -derivative_part, true);
+  if (solver.info() != Eigen::Success)
+    throw std::runtime_error("Hill's method: the generalised eigensolver (QZ) did not converge");
+  std::vector<Candidate> candidates;
+  const Eigen::VectorXcd alphas = solver.alphas();
+  const Eigen::VectorXd betas = solver.betas();
+  const Eigen::MatrixXcd vectors = solver.eigenvectors();
+  // Infinite eigenvalues belong to the algebraic equations (B singular).
+  double fastest = 0;
+  for (int k = 1; k < basis.size(); ++k) fastest = std::max(fastest, std::abs(basis.Frequency(k, w)));
+  const double finite_bound = 1e6 * (1 + fastest);
+  for (long i = 0; i < alphas.size(); ++i) {
+    if (std::abs(alphas(i)) >= finite_bound * std::abs(betas(i))) continue;
+    candidates.push_back({alphas(i) / betas(i), HarmonicCentroid(vectors.col(i), basis, n)});
+  }
+  const int states = static_cast<int>(std::lround(double(candidates.size()) / C));
+  SelectPhysical(std::move(candidates), states, basis, w, report);
+}
+
+// The `count` exponents closest to 0 are the free angles' (an autonomous
+// orbit's phase, a torus' unknown angles); the verdict is on the others.
+void MarkTrivial(int count, double margin, double w_min, HillStabilityReport* report) {
+  std::vector<int> order(report->exponents.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return std::abs(report->exponents[a]) < std::abs(report->exponents[b]); });
+  order.resize(std::min<size_t>(order.size(), count));
+  std::sort(order.begin(), order.end());
+  report->trivials = order;
+  report->trivial = order.empty() ? -1 : order[0];
+  report->max_real_part = -HUGE_VAL;
+  for (size_t i = 0; i < report->exponents.size(); ++i)
+    if (!std::binary_search(order.begin(), order.end(), static_cast<int>(i)))
+      report->max_real_part = std::max(report->max_real_part, report->exponents[i].real());
+  report->stable = report->max_real_part < -margin * w_min;
+}
+
+}  // namespace
+
+HillStabilityReport HillStability(const HarmonicBalanceProblem& problem,
+                                  const HarmonicSolution& solution, const HillOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  CheckApplies(problem, solution);
   // All perturbations count, not only those a symmetry of the solution keeps.
   HarmonicBalanceProblem full = problem;
   full.symmetries.clear();
   full.frequencies = solution.frequencies();
   const HarmonicBasis& basis = solution.basis();
   // Alias-free: the blocks are then those of classical harmonic balance.
-  const int samples = SamplesForRule(full.system, basis, SamplingRule::kRhb)[0];
-  CollocationResidual residual(full, basis, Sampling::Uniform(samples));
+  const std::vector<int> samples = SamplesForRule(full.system, basis, SamplingRule::kRhb);
+  CollocationResidual residual(full, basis,
+                               samples.size() == 1 ? Sampling::Uniform(samples[0]) : Sampling::Torus(samples));
   const Eigen::VectorXd x = residual.Pack(solution.coefficients(), solution.frequencies());
-  const int n = solution.num_variables(), C = basis.num_coefficients();
-  const double w = solution.frequencies()[0];
+  const int n = solution.num_variables();
+  const std::vector<double>& w = solution.frequencies();
   HillStabilityReport report;
   report.order = basis.order();
-  report.size = n * C;
+  report.bases = basis.num_bases();
+  report.size = n * basis.num_coefficients();
   report.eigensolver = options.eigensolver != HillEigensolver::kAuto ? options.eigensolver
                        : report.size <= options.dense_limit     ? HillEigensolver::kDense
                                                                  : HillEigensolver::kShiftInvert;
-  if (report.eigensolver == HillEigensolver::kDense) {
-    Eigen::MatrixXd value_part, derivative_part;
-    residual.LinearizationParts(x, &value_part, &derivative_part);
-    // J = A + B D(w): d/dt of (a_k cos + b_k sin)(k w t) has cos-coefficient
-    // k w b_k and sin-coefficient -k w a_k.
-    Eigen::MatrixXd jacobian = value_part;
-    for (int j = 0; j < n; ++j)
-      for (int k = 1; k < basis.size(); ++k) {
-        const double rate = basis.Frequency(k, {w});
-        const long c = static_cast<long>(j) * C;
-        jacobian.col(c + 2 * k) += rate * derivative_part.col(c + 2 * k - 1);
-        jacobian.col(c + 2 * k - 1) -= rate * derivative_part.col(c + 2 * k);
-      }
-    Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> solver(jacobian, -derivative_part, true);
-    if (solver.info() != Eigen::Success)
-      throw std::runtime_error("Hill's method: the generalised eigensolver (QZ) did not converge");
-    std::vector<Candidate> candidates;
-    const Eigen::VectorXcd alphas = solver.alphas();
-    const Eigen::VectorXd betas = solver.betas();
-    const Eigen::MatrixXcd vectors = solver.eigenvectors();
-    // Infinite eigenvalues belong to the algebraic equations (B singular).
-    const double finite_bound = 1e6 * (1 + basis.order() * w);
-    for (long i = 0; i < alphas.size(); ++i) {
-      if (std::abs(alphas(i)) >= finite_bound * std::abs(betas(i))) continue;
-      candidates.push_back({alphas(i) / betas(i), HarmonicCentroid(vectors.col(i), n, C)});
-    }
-    const int states = static_cast<int>(std::lround(double(candidates.size()) / C));
-    SelectPhysical(std::move(candidates), states, w, &report);
-  } else {
-    ShiftInvertExponents(residual, x, n, C, w, basis, &report);
-  }
+  if (report.eigensolver == HillEigensolver::kDense)
+    DenseExponents(residual, x, n, w, basis, &report);
+  else
+    ShiftInvertExponents(residual, x, n, w, basis, &report);
   std::sort(report.exponents.begin(), report.exponents.end(),
             [](auto a, auto b) { return a.real() > b.real(); });
-  const double period = 2 * M_PI / w;
-  for (const auto& l : report.exponents) report.multipliers.push_back(std::exp(l * period));
-  if (problem.num_unknown_frequencies() > 0 && !report.exponents.empty()) {
-    report.trivial = 0;
-    for (size_t i = 1; i < report.exponents.size(); ++i)
-      if (std::abs(report.exponents[i]) < std::abs(report.exponents[report.trivial]))
-        report.trivial = static_cast<int>(i);
-  }
-  report.max_real_part = -HUGE_VAL;
-  for (size_t i = 0; i < report.exponents.size(); ++i)
-    if (static_cast<int>(i) != report.trivial)
-      report.max_real_part = std::max(report.max_real_part, report.exponents[i].real());
-  report.stable = report.max_real_part < -options.margin * w;
+  // A torus has no period, so no multipliers.
+  if (report.bases == 1)
+    for (const auto& l : report.exponents) report.multipliers.push_back(std::exp(l * (2 * M_PI / w[0])));
+  const int free_angles = std::min(report.bases, problem.num_unknown_frequencies());
+  MarkTrivial(free_angles, options.margin, *std::min_element(w.begin(), w.end()), &report);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

@@ -23,8 +23,16 @@
 // nearest sigma (a small real shift), i.e. the central copies, found until
 // one per differential state survives the same centroid selection.
 //
-// Scope: periodic solutions (one base frequency) of systems whose equations
-// all balance their constant term. A recast auxiliary pinned at t = 0
+// Tori (METHOD.md s.18): a perturbation e^{lambda t} p(theta), p on the
+// torus, gives the same problem on the torus' harmonics, D(w) with the rates
+// k.w; each exponent is repeated as lambda + i k.w for every harmonic k of
+// the index set, and the central copy is the one whose eigenvector's
+// harmonic centroid (a vector, one component per base) is shortest. The
+// real parts are the torus' Lyapunov exponents (the linearisation is then
+// reducible, as for a periodic orbit by Floquet's theorem); there are no
+// multipliers (no period).
+//
+// Scope: solutions of systems whose equations all balance their constant term. A recast auxiliary pinned at t = 0
 // (s' = c v for s = sin(theta)) carries a free constant of integration, which
 // would add a spurious neutral exponent; such systems are refused, use the
 // Floquet multipliers of the original equations instead.
@@ -53,14 +61,16 @@ struct HillOptions {
 
 struct HillStabilityReport {
   // Selected Floquet exponents, one per differential state, by decreasing
-  // real part; for an autonomous solution (unknown frequency) the trivial
-  // exponent (closest to 0: the phase shift along the orbit) is listed but
+  // real part; the trivial exponents (closest to 0: the phase shift along
+  // an autonomous orbit, one per unknown base of a torus) are listed but
   // excluded from the verdict.
   std::vector<std::complex<double>> exponents;
-  std::vector<std::complex<double>> multipliers;  // exp(lambda T), same order
-  int trivial = -1;                                // index of the trivial exponent, or -1
+  std::vector<std::complex<double>> multipliers;  // exp(lambda T), same order; none for a torus
+  std::vector<int> trivials;                       // indices of the trivial exponents
+  int trivial = -1;                                // the first of them, or -1
   double max_real_part = 0;                        // over non-trivial exponents
-  bool stable = false;                             // every non-trivial Re lambda < -margin w
+  bool stable = false;                             // every non-trivial Re lambda < -margin w_min
+  int bases = 1;                                   // of the solution: 2 or more for a torus
   int eigenvalues = 0;                             // finite eigenvalues of the Hill problem computed
   HillEigensolver eigensolver = HillEigensolver::kDense;  // the one used
   int size = 0;                                    // rows of the Hill matrix
@@ -70,8 +80,8 @@ struct HillStabilityReport {
   std::string BriefReport() const;
 };
 
-// Throws std::invalid_argument for a quasi-periodic solution, a system with a
-// pinned (constant-free) equation, or a solution on the wrong variables.
+// Throws std::invalid_argument for a system with a pinned (constant-free)
+// equation, or a solution on the wrong variables or bases.
 HillStabilityReport HillStability(const HarmonicBalanceProblem& problem,
                                   const HarmonicSolution& solution, const HillOptions& options = {});
 

@@ -42,7 +42,7 @@ struct SolveOptions {
   bool validate = false;            // against the original equations
   int validate_periods = 1;         // of the slowest base
   double validate_tolerance = 1e-8; // relative to max|state| (JudgeValidation)
-  bool stability = false;           // Hill and the monodromy matrix (Stability)
+  bool stability = false;           // Hill and the monodromy matrix, or a torus' Lyapunov exponents (Stability)
   std::string IsValid() const;      // empty when valid
 };
 

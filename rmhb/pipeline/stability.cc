@@ -1,5 +1,6 @@
 #include "rmhb/pipeline/stability.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -82,7 +83,75 @@ void FloquetPart(const Model& model, const HarmonicSolution& solution, const Sta
     s->floquet_verdict = MultiplierVerdict(s->floquet->multipliers, s->floquet->trivial, o.neutral_band);
 }
 
+StabilityVerdict FromPointStability(PointStability p) {
+  switch (p) {
+    case PointStability::kStable: return StabilityVerdict::kStable;
+    case PointStability::kUnstable: return StabilityVerdict::kUnstable;
+    case PointStability::kNeutral: return StabilityVerdict::kNeutral;
+    default: return StabilityVerdict::kUnknown;
+  }
+}
+
+StabilityVerdict ExponentVerdict(double largest, double band) {
+  return largest < -band ? StabilityVerdict::kStable
+         : largest > band ? StabilityVerdict::kUnstable
+                          : StabilityVerdict::kNeutral;
+}
+
+// Hill's real parts against the Lyapunov exponents, both by value.
+double ExponentDifference(const HillStabilityReport& hill, const TorusStabilityReport& lyapunov) {
+  std::vector<double> a, b = lyapunov.exponents;
+  for (const auto& l : hill.exponents) a.push_back(l.real());
+  std::sort(a.rbegin(), a.rend());
+  std::sort(b.rbegin(), b.rend());
+  double worst = 0;
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
+  return worst;
+}
+
+// A torus (METHOD.md s.18): Hill's exponents and the Lyapunov exponents.
+StabilitySummary TorusStabilitySummary(const Model& model, const HarmonicSolution& torus, const StabilityOptions& o) {
+  StabilitySummary s;
+  const std::vector<double>& w = torus.frequencies();
+  s.exponent_band = o.neutral_band * *std::min_element(w.begin(), w.end()) / (2 * M_PI);
+  s.neutral_band = o.neutral_band;
+  try {
+    s.hill = HillStability(model.problem, torus);
+    s.hill_verdict = ExponentVerdict(s.hill->max_real_part, s.exponent_band);
+  } catch (const std::invalid_argument& e) {
+    s.hill_note = std::string("Hill's method refused: ") + e.what();
+  }
+  s.floquet_note = "a torus has no period, so no monodromy matrix: Lyapunov exponents instead";
+  s.lyapunov = TorusStability(model, torus, o.torus);
+  if (s.lyapunov->ok) s.lyapunov_verdict = FromPointStability(s.lyapunov->stability);
+  const bool lyapunov_ok = s.lyapunov->ok && s.lyapunov_verdict != StabilityVerdict::kUnknown;
+  // A trajectory that left the torus has exponents of where it went.
+  const bool on_torus = s.lyapunov->departure <= TorusStabilityReport::kLeftTorus;
+  if (s.hill && s.lyapunov->ok && on_torus) s.max_exponent_difference = ExponentDifference(*s.hill, *s.lyapunov);
+  const bool hill_decides = s.hill && (!lyapunov_ok || s.agree());
+  if (hill_decides) {
+    s.verdict = s.hill_verdict;
+    s.largest_exponent = s.hill->max_real_part;
+    s.judged_by = "Hill";
+  } else if (lyapunov_ok) {
+    s.verdict = s.lyapunov_verdict;
+    s.largest_exponent = s.lyapunov->max_exponent;
+    s.exponent_band = s.lyapunov->tolerance;
+    s.judged_by = "Lyapunov";
+  }
+  if (!s.judged_by.empty() && model.problem.num_unknown_frequencies() > 0)
+    s.judged_by += ", the trivial exponents left out";
+  return s;
+}
+
 }  // namespace
+
+bool StabilitySummary::agree() const {
+  if (!torus()) return hill_verdict == floquet_verdict;
+  if (!hill || !lyapunov->ok) return false;
+  return hill_verdict == lyapunov_verdict ||
+         (lyapunov_verdict == StabilityVerdict::kNeutral && std::abs(hill->max_real_part) <= lyapunov->tolerance);
+}
 
 const char* ToString(StabilityVerdict verdict) {
   switch (verdict) {
@@ -95,7 +164,8 @@ const char* ToString(StabilityVerdict verdict) {
 }
 
 std::string StabilityOptions::IsValid() const {
-  return neutral_band >= 0 && neutral_band < 1 ? "" : "neutral_band must be in [0, 1)";
+  if (!(neutral_band >= 0 && neutral_band < 1)) return "neutral_band must be in [0, 1)";
+  return torus.IsValid();
 }
 
 double LargestModulus(const Multipliers& mu, int trivial) {
@@ -115,13 +185,8 @@ StabilityVerdict MultiplierVerdict(const Multipliers& mu, int trivial, double ba
 StabilitySummary Stability(const Model& model, const HarmonicSolution& solution, const StabilityOptions& options) {
   if (const std::string error = options.IsValid(); !error.empty())
     throw std::invalid_argument("stability: " + error);
+  if (solution.frequencies().size() != 1) return TorusStabilitySummary(model, solution, options);
   StabilitySummary s;
-  if (solution.frequencies().size() != 1) {
-    s.hill_note = s.floquet_note =
-        "quasi-periodic solution: no period, so neither Hill's method (one base frequency) nor a monodromy "
-        "matrix applies";
-    return s;
-  }
   HillPart(model, solution, options, &s);
   FloquetPart(model, solution, options, &s);
   const bool floquet_ok = s.floquet && s.floquet->ok;
@@ -149,12 +214,52 @@ void AppendMultipliers(const std::vector<std::complex<double>>& multipliers, std
   }
 }
 
+void AppendExponents(const HillStabilityReport& hill, std::string* out) {
+  char text[128];
+  for (size_t i = 0; i < hill.exponents.size(); ++i) {
+    const auto& l = hill.exponents[i];
+    const bool trivial = std::count(hill.trivials.begin(), hill.trivials.end(), static_cast<int>(i)) > 0;
+    std::snprintf(text, sizeof text, " %.10g%+.10gi%s", l.real(), l.imag(), trivial ? " (trivial)" : "");
+    *out += text;
+  }
+}
+
+// The torus' lines: Hill's exponents, the Lyapunov exponents, their agreement.
+std::string TorusReport(const StabilitySummary& s) {
+  std::string out;
+  char text[256];
+  if (s.hill) {
+    std::snprintf(text, sizeof text, "stability    %-8s %-8s exponents", "Hill", ToString(s.hill_verdict));
+    out += text;
+    AppendExponents(*s.hill, &out);
+    std::snprintf(text, sizeof text, "; order %d, %d rows, %.3g ms\n", s.hill->order, s.hill->size,
+                  s.hill->seconds * 1e3);
+    out += text;
+  } else {
+    out += "stability    Hill: " + s.hill_note + "\n";
+  }
+  out += "stability    Lyapunov " + s.lyapunov->BriefReport() + "\n";
+  if (s.max_exponent_difference) {
+    std::snprintf(text, sizeof text,
+                  "stability    the two agree to %.3e (max |Re lambda_Hill - lambda_Lyapunov|, Lyapunov tolerance %.1e), "
+                  "verdicts %s\n",
+                  *s.max_exponent_difference, s.lyapunov->tolerance, s.agree() ? "agree" : "DISAGREE");
+    out += text;
+  } else if (s.hill && s.lyapunov->ok) {
+    out += std::string("stability    verdicts ") + (s.agree() ? "agree" : "DISAGREE") +
+           " (the exponents are not compared: the trajectory left the torus)\n";
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string StabilitySummary::FullReport() const {
   std::string out;
   char text[256];
-  if (hill) {
+  if (torus()) {
+    out = TorusReport(*this);
+  } else if (hill) {
     std::snprintf(text, sizeof text, "stability    %-8s %-8s multipliers", "Hill", ToString(hill_verdict));
     out += text;
     AppendMultipliers(hill->multipliers, &out);
@@ -162,7 +267,9 @@ std::string StabilitySummary::FullReport() const {
   } else {
     out += "stability    Hill: " + hill_note + "\n";
   }
-  if (!floquet) {
+  if (torus()) {
+    // TorusReport said it.
+  } else if (!floquet) {
     out += "stability    CVODE: " + floquet_note + "\n";
   } else if (!floquet->ok) {
     out += "stability    CVODE: integration failed: " + floquet->message + "\n";
@@ -185,6 +292,15 @@ std::string StabilitySummary::FullReport() const {
 // judged and the band it was judged against.
 std::string StabilitySummary::Judged() const {
   if (judged_by.empty()) return "";
+  if (torus()) {
+    const char* relation = verdict == StabilityVerdict::kStable     ? "< -"
+                           : verdict == StabilityVerdict::kUnstable ? "> +"
+                                                                    : "within -+";
+    char text[200];
+    std::snprintf(text, sizeof text, "largest Re(lambda) %.10g %s%.2g (%s)", largest_exponent, relation,
+                  exponent_band, judged_by.c_str());
+    return text;
+  }
   const char* relation = verdict == StabilityVerdict::kStable     ? "< 1 -"
                          : verdict == StabilityVerdict::kUnstable ? "> 1 +"
                                                                   : "within 1 -+";
@@ -203,9 +319,28 @@ nlohmann::json StabilitySummary::ToJson() const {
                    {"exponents", JsonComplex(hill->exponents)},
                    {"max_real_part", JsonNumber(hill->max_real_part)},
                    {"trivial", hill->trivial},
+                   {"trivials", hill->trivials},
+                   {"order", hill->order},
+                   {"size", hill->size},
                    {"seconds", hill->seconds}};
   else
     out["hill"] = {{"note", hill_note}};
+  if (torus()) {
+    if (hill) out["hill"].erase("multipliers");
+    out["floquet"] = {{"note", floquet_note}};
+    const TorusStabilityReport& l = *lyapunov;
+    out["lyapunov"] = {{"ok", l.ok}, {"verdict", ToString(lyapunov_verdict)}, {"exponents", l.exponents},
+                       {"trivial", l.trivial}, {"max_exponent", JsonNumber(l.max_exponent)},
+                       {"tolerance", JsonNumber(l.tolerance)}, {"departure", JsonNumber(l.departure)},
+                       {"time", l.time}, {"steps", l.steps},
+                       {"seconds", l.seconds}, {"message", l.message}};
+    if (max_exponent_difference) out["max_exponent_difference"] = JsonNumber(*max_exponent_difference);
+    if (hill && l.ok) out["agree"] = agree();
+    out["verdict"] = ToString(verdict);
+    if (!judged_by.empty())
+      out["judged"] = {{"largest_exponent", JsonNumber(largest_exponent)}, {"band", exponent_band}, {"by", judged_by}};
+    return out;
+  }
   if (floquet)
     out["floquet"] = {{"ok", floquet->ok},
                       {"verdict", ToString(floquet_verdict)},
@@ -230,9 +365,14 @@ nlohmann::json StabilitySummary::ToJson() const {
 
 std::string StabilitySummary::BriefReport() const {
   std::ostringstream out;
-  out << "stability: " << ToString(verdict) << " (Hill " << ToString(hill_verdict) << ", monodromy "
-      << ToString(floquet_verdict);
-  if (max_multiplier_difference) out << ", multipliers agree to " << *max_multiplier_difference;
+  out << "stability: " << ToString(verdict) << " (Hill " << ToString(hill_verdict);
+  if (torus()) {
+    out << ", Lyapunov " << ToString(lyapunov_verdict);
+    if (max_exponent_difference) out << ", exponents agree to " << *max_exponent_difference;
+  } else {
+    out << ", monodromy " << ToString(floquet_verdict);
+    if (max_multiplier_difference) out << ", multipliers agree to " << *max_multiplier_difference;
+  }
   out << ")";
   if (const std::string judged = Judged(); !judged.empty()) out << "; " << judged;
   out << "\n";

@@ -9,6 +9,15 @@
 // monodromy's when it ran (it does not depend on the truncation), else
 // Hill's. Where one does not apply (Hill: pinned auxiliaries, several base
 // frequencies; monodromy: no original ODE) its note says why.
+//
+// A torus (two or more bases) has no period, so no multipliers: Hill's
+// method gives its exponents (rmhb/hill_stability.h), the Lyapunov exponents
+// of the original equations on it (rmhb/pipeline/torus.h) check them. Both
+// judge the largest non-trivial exponent; the integration's tolerance is the
+// coarser (its exponents converge like 1/t), so where it says neutral and
+// Hill's exponent lies within that tolerance the two agree, and the verdict
+// is Hill's; where they contradict each other the verdict is Lyapunov's (it
+// does not depend on the truncation).
 
 #include <complex>
 #include <limits>
@@ -22,6 +31,7 @@
 #include "rmhb/harmonic_solution.h"
 #include "rmhb/hill_stability.h"
 #include "rmhb/pipeline/model.h"
+#include "rmhb/pipeline/torus.h"
 
 namespace rmhb {
 
@@ -33,6 +43,9 @@ struct StabilityOptions {
   // that a truncated (Hill) or tolerance-limited (CVODE) computation can
   // decide: a conservative orbit's multipliers sit there (neutral).
   double neutral_band = 1e-6;
+  // A torus' Lyapunov exponents; Hill's exponents are judged against the
+  // same band per period of the slowest base, |Re lambda| 2 pi / w_min.
+  TorusStabilityOptions torus;
   std::string IsValid() const;
 };
 
@@ -54,14 +67,29 @@ struct StabilitySummary {
   std::string judged_by;  // "CVODE" or "Hill" (", the trivial multiplier left out")
   double neutral_band = 0;
 
-  bool agree() const { return hill_verdict == floquet_verdict; }
+  // A torus: the Lyapunov exponents in place of the monodromy matrix, the
+  // largest non-trivial exponent judged against -+ exponent_band.
+  std::optional<TorusStabilityReport> lyapunov;
+  StabilityVerdict lyapunov_verdict = StabilityVerdict::kUnknown;
+  // Both ran: the largest distance between Hill's real parts and the
+  // Lyapunov exponents, each sorted by value.
+  std::optional<double> max_exponent_difference;
+  double largest_exponent = std::numeric_limits<double>::quiet_NaN();
+  double exponent_band = 0;
+
+  bool torus() const { return lyapunov.has_value(); }
+  // The two methods' verdicts are the same, or (a torus) Lyapunov's is
+  // neutral with Hill's exponent within its tolerance.
+  bool agree() const;
   std::string BriefReport() const;
   // One line per method ("stability    Hill     stable   multipliers ..."),
   // their agreement and the verdict (rmhb solve --stability).
   std::string FullReport() const;
   std::string Judged() const;  // the verdict's number and band, for the reports
   // {"hill": {...} | {"note"}, "floquet": {...} | {"note"},
-  //  "max_multiplier_difference", "agree", "verdict"} (solve --json).
+  //  "max_multiplier_difference", "agree", "verdict"} (solve --json); a
+  // torus: "lyapunov" and "max_exponent_difference" in place of "floquet"
+  // and "max_multiplier_difference".
   nlohmann::json ToJson() const;
 };
 

@@ -31,6 +31,23 @@ bool OnRim(const HarmonicBasis& basis, std::vector<int> k) {
   return false;
 }
 
+// How far the integrated trajectory got from the torus it started on.
+void MeasureDeparture(const Model& model, const HarmonicSolution& torus, const integrators::LyapunovReport& r,
+                      double segment, TorusStabilityReport* out) {
+  double size = 0;
+  std::vector<Eigen::VectorXd> on_torus;
+  for (long i = 0; i < r.segment_states.rows(); ++i) {
+    on_torus.push_back(model.state(torus, (i + 1) * segment));
+    size = std::max(size, on_torus.back().cwiseAbs().maxCoeff());
+  }
+  for (long i = 0; i < r.segment_states.rows(); ++i) {
+    const double d = (r.segment_states.row(i).transpose() - on_torus[i]).cwiseAbs().maxCoeff() / std::max(size, 1e-300);
+    if (d > TorusStabilityReport::kLeftTorus && out->departure <= TorusStabilityReport::kLeftTorus)
+      out->left_at = (i + 1) * segment;
+    out->departure = std::max(out->departure, d);
+  }
+}
+
 }  // namespace
 
 double OutermostCoefficients(const HarmonicSolution& s) {
@@ -66,7 +83,8 @@ std::string TorusStabilityReport::BriefReport() const {
                 max_exponent, tolerance, trivial, trivial_max);
   out += text;
   for (double l : exponents) std::snprintf(text, sizeof text, " %.6g", l), out += text;
-  std::snprintf(text, sizeof text, "; t = %.4g, %ld steps, %.3g ms", time, steps, seconds * 1e3);
+  std::snprintf(text, sizeof text, "; off the torus %.1e; t = %.4g, %ld steps, %.3g ms", departure, time, steps,
+                seconds * 1e3);
   out += text;
   if (!message.empty()) out += "; " + message;
   return out;
@@ -103,6 +121,7 @@ TorusStabilityReport TorusStability(const Model& model, const HarmonicSolution& 
   }
   out.exponents = r.exponents;
   out.spread = r.spread;
+  MeasureDeparture(model, torus, r, lyapunov.segment, &out);
   out.tolerance = std::max(options.tolerance * w_min, 3 * r.spread);
   // The free angles: the unknown bases (a forced torus' angle along the
   // forcing is time itself, not a state direction).
@@ -116,7 +135,15 @@ TorusStabilityReport TorusStability(const Model& model, const HarmonicSolution& 
   out.stability = out.max_exponent < -out.tolerance  ? PointStability::kStable
                   : out.max_exponent > out.tolerance ? PointStability::kUnstable
                                                      : PointStability::kNeutral;
-  if (out.trivial_max > out.tolerance) {
+  if (out.departure > TorusStabilityReport::kLeftTorus) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "the trajectory left the torus (|y - torus| %.2g of its size at t = %.4g): it repels; the "
+                  "exponents are the trajectory's, not the torus'",
+                  out.departure, out.left_at);
+    out.message = text;
+    out.stability = PointStability::kUnstable;
+  } else if (out.trivial_max > out.tolerance) {
     char text[200];
     std::snprintf(text, sizeof text, "the %d exponents closest to 0 should vanish on a torus but reach %.2e > %.1e",
                   out.trivial, out.trivial_max, out.tolerance);

@@ -61,6 +61,14 @@ struct TorusStabilityReport {
   double max_exponent = 0;        // the largest non-trivial exponent
   double tolerance = 0;           // judged against
   double spread = 0;              // integrators::LyapunovReport::spread
+  // max over the segment ends of |y(t) - torus(t)| relative to max |torus|:
+  // a trajectory from a point of a repelling torus leaves it (round-off
+  // grows like e^{lambda t}), and its exponents are then those of where it
+  // went. Above kLeftTorus the torus is unstable and the exponents are not
+  // its own (message); `left_at` the first segment end past it.
+  double departure = 0;
+  double left_at = 0;
+  static constexpr double kLeftTorus = 0.1;
   PointStability stability = PointStability::kUnknown;
   double time = 0;                // integrated span
   long steps = 0;

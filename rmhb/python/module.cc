@@ -121,6 +121,13 @@ py::dict StabilityOf(const Solution& self) {
   if (st.max_multiplier_difference) out["max_multiplier_difference"] = *st.max_multiplier_difference;
   if (!st.hill_note.empty()) out["hill_note"] = st.hill_note;
   if (!st.floquet_note.empty()) out["monodromy_note"] = st.floquet_note;
+  if (st.torus()) {  // a torus: exponents, no multipliers
+    out["lyapunov"] = ToString(st.lyapunov_verdict);
+    out["lyapunov_exponents"] = st.lyapunov->exponents;
+    if (st.hill) out["hill_exponents"] = Multipliers(st.hill->exponents);
+    if (st.max_exponent_difference) out["max_exponent_difference"] = *st.max_exponent_difference;
+    out["largest_exponent"] = st.largest_exponent;
+  }
   return out;
 }
 

@@ -117,10 +117,16 @@ TEST(CliRobust, StabilitySaysWhereHillDoesNotApply) {
   EXPECT_EQ(j["stability"]["verdict"], "neutral");
   EXPECT_NEAR(j["stability"]["judged"]["largest_modulus"].get<double>(), 1, 1e-6);
   EXPECT_EQ(j["stability"]["judged"]["by"], "CVODE, the trivial multiplier left out");
-  // Quasi-periodic: neither applies, and it says so.
+  // Quasi-periodic: no period, so no monodromy matrix (it says so); Hill's
+  // exponents on the torus and the Lyapunov exponents in its place.
   j = Json("solve forced-vanderpol --stability --json");
-  EXPECT_EQ(j["stability"]["verdict"], "unknown");
-  EXPECT_NE(j["stability"]["hill"]["note"].get<std::string>().find("quasi-periodic"), std::string::npos);
+  EXPECT_EQ(j["stability"]["verdict"], "stable");
+  EXPECT_NE(j["stability"]["floquet"]["note"].get<std::string>().find("no period"), std::string::npos);
+  EXPECT_EQ(j["stability"]["hill"]["verdict"], "stable");
+  EXPECT_EQ(j["stability"]["lyapunov"]["verdict"], "stable");
+  EXPECT_TRUE(j["stability"]["agree"].get<bool>());
+  EXPECT_EQ(j["stability"]["judged"]["by"], "Hill, the trivial exponents left out");
+  EXPECT_LT(j["stability"]["judged"]["largest_exponent"].get<double>(), -0.1);
   // The text report names both and the verdict.
   const CliRun r = Cli("solve vanderpol --stability");
   EXPECT_EQ(r.code, 0);

@@ -109,7 +109,9 @@ TEST(PipelineStability, HillAndTheMonodromyMatrixAgree) {
   EXPECT_EQ(s.verdict, StabilityVerdict::kStable);  // the only response below the bistable band
   // Damping 2 zeta = 0.08 over a period 2 pi / W: |mu| = exp(-0.04 T) exactly.
   for (const auto& mu : s.floquet->multipliers) EXPECT_NEAR(std::abs(mu), std::exp(-0.04 * 2 * M_PI / 1.2), 1e-9);
-  EXPECT_THROW(Stability(model, *solved.solution, StabilityOptions{2.0}), std::invalid_argument);
+  StabilityOptions wrong;
+  wrong.neutral_band = 2.0;
+  EXPECT_THROW(Stability(model, *solved.solution, wrong), std::invalid_argument);
 }
 
 }  // namespace

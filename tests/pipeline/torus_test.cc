@@ -20,11 +20,122 @@
 #include "rmhb/pipeline/analyze.h"
 #include "rmhb/pipeline/branch.h"
 #include "rmhb/pipeline/settings.h"
+#include "rmhb/pipeline/solve.h"
+#include "rmhb/pipeline/stability.h"
 
 namespace rmhb {
 namespace {
 
 constexpr const char* kVdp = "tests/pipeline/models/weakly-forced-vdp.yaml";
+
+// `rmhb solve FILE --stability` from the library: the file written here,
+// defaults only.
+struct SolvedFile {
+  Model model;
+  SolveSummary summary;
+};
+SolvedFile SolveFileWithStability(const std::string& name, const std::string& text) {
+  const std::string file = ::testing::TempDir() + "/" + name;
+  std::ofstream(file) << text;
+  SolveSettings settings;
+  settings.default_tol = SolveSettings::kDefaultTolerance;
+  const PreparedSolve prepared = PrepareSolve(LoadModel(file, {}), settings);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.stability = true;
+  SolvedFile out{prepared.model, SolveModel(prepared.model, prepared.guess, options)};
+  std::remove(file.c_str());
+  return out;
+}
+
+// <x'^2> over the torus by Parseval, from the coefficients of x.
+double MeanSquareVelocity(const HarmonicSolution& s) {
+  double sum = 0;
+  for (int k = 1; k < s.basis().size(); ++k) {
+    const double rate = s.basis().Frequency(k, s.frequencies());
+    sum += 0.5 * rate * rate * s.coefficients().row(0).segment(2 * k - 1, 2).squaredNorm();
+  }
+  return sum;
+}
+
+constexpr const char* kRayleigh =
+    "name: forced-rayleigh\nvariables: [x]\nparameters: {eps: 0.3, F: 0.4, w: 1.7}\n"
+    "equations:\n  - \"x'' - SIGN*eps*(1 - x'^2)*x' + x = F*cos(w*t)\"\n"
+    "frequencies:\n  - w\n  - {guess: 1}\nconditions:\n  - \"x(0) = 0\"\n"
+    "guess: {x: \"1.15*sin(w2*t) + F/(1 - w^2)*cos(w*t)\"}\n";
+
+std::string Rayleigh(const char* sign) {
+  std::string text = kRayleigh;
+  text.replace(text.find("SIGN"), 4, sign);
+  return text;
+}
+
+// Hill's method on a torus (METHOD.md s.18) against Liouville's formula: for
+// x'' - eps (1 - x'^2) x' + x = F cos(w t) the trace of the Jacobian is
+// eps (1 - 3 x'^2), its average over the torus the sum of the exponents; one
+// is the free angle's 0, so the other is eps (1 - 3 <x'^2>). The attracting
+// torus (eps > 0) is stable by both methods; reversed in time (eps < 0) it
+// repels: Hill's exponent changes sign, and the Lyapunov integration leaves
+// the torus and says so rather than report the exponents of where it went.
+TEST(Torus, HillExponentsOfATorusAreLiouvillesAndTheLyapunovVerdictAgrees) {
+  for (const char* sign : {"1", "-1"}) {
+    SCOPED_TRACE(sign);
+    const SolvedFile f = SolveFileWithStability("rayleigh.yaml", Rayleigh(sign));
+    ASSERT_TRUE(f.summary.converged()) << f.summary.FullReport();
+    ASSERT_TRUE(f.summary.stability && f.summary.stability->hill && f.summary.stability->lyapunov);
+    const StabilitySummary& st = *f.summary.stability;
+    SCOPED_TRACE(st.FullReport());
+    const HillStabilityReport& hill = *st.hill;
+    ASSERT_EQ(hill.exponents.size(), 2u);
+    ASSERT_EQ(hill.trivials.size(), 1u);
+    EXPECT_LT(std::abs(hill.exponents[hill.trivial]), 1e-10);
+    EXPECT_TRUE(hill.multipliers.empty());
+    const double liouville = (sign[0] == '-' ? -0.3 : 0.3) * (1 - 3 * MeanSquareVelocity(f.summary.solution()));
+    EXPECT_NEAR(hill.max_real_part, liouville, 1e-9);
+    EXPECT_TRUE(st.agree());
+    EXPECT_EQ(st.judged_by, "Hill, the trivial exponents left out");
+    EXPECT_EQ(st.largest_exponent, hill.max_real_part);
+    if (sign[0] == '1') {
+      EXPECT_EQ(st.verdict, StabilityVerdict::kStable);
+      ASSERT_TRUE(st.max_exponent_difference.has_value());
+      EXPECT_LT(*st.max_exponent_difference, st.lyapunov->tolerance);
+      EXPECT_LT(st.lyapunov->departure, 1e-6);
+    } else {
+      EXPECT_EQ(st.verdict, StabilityVerdict::kUnstable);
+      EXPECT_EQ(st.lyapunov_verdict, StabilityVerdict::kUnstable);
+      EXPECT_GT(st.lyapunov->departure, TorusStabilityReport::kLeftTorus);
+      EXPECT_NE(st.lyapunov->message.find("left the torus"), std::string::npos);
+      EXPECT_FALSE(st.max_exponent_difference.has_value());
+    }
+  }
+}
+
+// A conservative torus (two coupled Duffing oscillators, both frequencies
+// unknown): every exponent of Hill's method on the imaginary axis to
+// round-off, two of them the free angles', and the Lyapunov exponents
+// within their tolerance of 0: neutral by both.
+TEST(Torus, AConservativeTorusIsNeutralByHillAndLyapunov) {
+  const SolvedFile f = SolveFileWithStability(
+      "two_duffing.yaml",
+      "name: two-duffing\nvariables: [x, y]\nparameters: {x0: 0.45, y0: 0.15}\n"
+      "equations:\n  - \"x'' + x + 0.5*x^3 + 0.2*(x - y) = 0\"\n"
+      "  - \"y'' + 1.6*y + 0.3*y^3 + 0.2*(y - x) = 0\"\n"
+      "frequencies:\n  - {guess: 1.07}\n  - {guess: 1.36}\n"
+      "conditions:\n  - \"x(0) = x0\"\n  - \"y(0) = y0\"\n  - \"x'(0) = 0\"\n"
+      "  - \"y'(0) = 0\"\ninitial_state: {x: x0, \"x'\": 0, y: y0, \"y'\": 0}\n");
+  ASSERT_TRUE(f.summary.converged()) << f.summary.FullReport();
+  ASSERT_TRUE(f.summary.stability && f.summary.stability->hill && f.summary.stability->lyapunov);
+  const StabilitySummary& st = *f.summary.stability;
+  SCOPED_TRACE(st.FullReport());
+  ASSERT_EQ(st.hill->exponents.size(), 4u);
+  EXPECT_EQ(st.hill->trivials.size(), 2u);
+  for (const auto& l : st.hill->exponents) EXPECT_LT(std::abs(l.real()), 1e-12);
+  EXPECT_EQ(st.hill_verdict, StabilityVerdict::kNeutral);
+  EXPECT_EQ(st.lyapunov_verdict, StabilityVerdict::kNeutral);
+  EXPECT_EQ(st.lyapunov->trivial, 2);
+  EXPECT_EQ(st.verdict, StabilityVerdict::kNeutral);
+  EXPECT_TRUE(st.agree());
+}
 
 TEST(LyapunovExponents, LinearSystemsExactly) {
   // A damped rotation (-0.3 twice) and a growing mode (0.2): exact at any T.

@@ -63,6 +63,18 @@ def test_coefficients_harmonics_validate_and_stability():
     assert st["max_multiplier_difference"] < 1e-6
 
 
+def test_stability_of_a_torus_is_hills_exponent_checked_by_lyapunov():
+    s = rmhb.Model("examples/models/forced-vanderpol.yaml").solve()
+    assert s.converged and len(s.frequencies) == 2
+    st = s.stability()
+    assert st["verdict"] == st["hill"] == st["lyapunov"] == "stable"
+    # Liouville: the transverse exponent is eps (1 - <x^2>), Parseval from the coefficients.
+    cos, sin = s.coefficients["x"]
+    mean_square = cos[0] ** 2 + 0.5 * (np.sum(cos[1:] ** 2) + np.sum(sin[1:] ** 2))
+    assert math.isclose(st["largest_exponent"], 0.2 * (1 - mean_square), abs_tol=1e-9)
+    assert st["max_exponent_difference"] < 5e-3 and "hill_multipliers" in st
+
+
 def test_a_non_physical_solution_is_not_called_converged():
     # HDHB aliasing on the relativistic oscillator (the CLI exits 5 on it).
     s = rmhb.Model("relativistic", beta=0.95).solve(order=16, method="hdhb", start="guess")
