@@ -77,7 +77,7 @@ void AddContinuationOptions(CLI::App* app, ContinuationArgs* a) {
       ->check(CLI::PositiveNumber)
       ->each([a](const std::string&) { a->torus_tail_given = true; });
   app->add_flag("--no-locking", a->no_locking,
-                "Continuation of a forced quasi-periodic model: stop where the torus stops instead of crossing "
+                "Continuation of a quasi-periodic model: stop where the torus stops instead of crossing "
                 "the locking tongue ahead (the locked orbit of base w1/q followed to both edges, the torus "
                 "resumed past it)");
   app->add_flag("--switch-branches", a->switch_branches,

@@ -175,6 +175,53 @@ AnalyzeSummary AnalyzeLocked(const Model& model, const AnalyzeOptions& options, 
   return s;
 }
 
+// An autonomous torus model (both frequencies unknown) whose motion is
+// locked: one unknown base explains it. The model on one base (LockedModel
+// at 1:1; an autonomous model's equations do not contain its frequencies,
+// p/q only maps a torus' harmonics) is analyzed after locking_transient
+// periods of its slowest guess; a converged orbit that CVODE validates is
+// the motion. Else nullopt, with why in *motion.
+std::optional<AnalyzeSummary> AnalyzeAutonomousLocked(const Model& model, const AnalyzeOptions& options,
+                                                     std::string* motion) {
+  AnalyzeOptions o = options;
+  const std::vector<double>& w = model.problem.frequencies;
+  if (o.transient < 0) o.transient = options.locking_transient * 2 * M_PI / *std::min_element(w.begin(), w.end());
+  o.detect_locking = false;
+  o.solve.basis_for_order = nullptr;
+  o.solve.shape = BasisShape::kDiamond;
+  o.solve.samples.clear();
+  AnalyzeSummary s = Analyze(LockedModel(model, {1, 1, 0}), o);
+  char text[300];
+  // A converged, validated orbit need not be the recorded motion (an
+  // unstable periodic orbit validates over a few periods): the one base must
+  // carry the record's line energy, and the orbit must have its frequency.
+  constexpr double kLockedEnergy = 0.999, kLockedFrequency = 1e-6;
+  const bool explained = s.seed && s.seed->energy_on_basis >= kLockedEnergy;
+  const bool same = s.ok() && explained &&
+                    std::abs(s.solve->solution->frequencies()[0] - s.seed->frequencies[0]) <=
+                        kLockedFrequency * s.seed->frequencies[0];
+  if (same) {
+    std::snprintf(text, sizeof text,
+                  "locked: one base frequency, %.15g, explains the motion after a transient of %g (validated: %s)",
+                  s.solve->solution->frequencies()[0], o.transient, s.verdict->Describe().c_str());
+    s.motion = text;
+    return s;
+  }
+  if (s.ok() && !explained)
+    std::snprintf(text, sizeof text,
+                  "quasi-periodic: one base frequency carries %.1f%% of the line energy (< %.1f%%)",
+                  100 * s.seed->energy_on_basis, 100 * kLockedEnergy);
+  else if (s.ok())
+    std::snprintf(text, sizeof text,
+                  "quasi-periodic: the one-base orbit (w = %.12g) is not the motion's (identified %.12g)",
+                  s.solve->solution->frequencies()[0], s.seed->frequencies[0]);
+  else
+    std::snprintf(text, sizeof text, "quasi-periodic: one base frequency does not explain the motion (%s: %s)",
+                  ToString(s.status), s.message.substr(0, 120).c_str());
+  *motion = text;
+  return std::nullopt;
+}
+
 }  // namespace
 
 AnalyzeSummary Analyze(const Model& model, const AnalyzeOptions& options) {
@@ -195,6 +242,8 @@ AnalyzeSummary Analyze(const Model& model, const AnalyzeOptions& options) {
                   options.max_locking_denominator, mismatch, options.locking_tolerance);
     motion = text;
   }
+  if (options.identify && options.detect_locking && IsAutonomousTorus(model) && model.initial_state.size() > 0)
+    if (std::optional<AnalyzeSummary> locked = AnalyzeAutonomousLocked(model, options, &motion)) return *locked;
   AnalyzeSummary s;
   s.motion = motion;
   s.problem = model.problem;

@@ -42,7 +42,10 @@ struct AnalyzeOptions {
   // is its motion locked? Its stroboscopic state after locking_transient
   // forcing periods repeating every q <= max_locking_denominator periods
   // within locking_tolerance (LockedPeriods) says so, and the locked orbit
-  // of base w1/q is analyzed instead of the torus (METHOD.md s.18).
+  // of base w1/q is analyzed instead of the torus (METHOD.md s.18). An
+  // autonomous torus (both frequencies unknown) is locked when the model on
+  // one unknown base, recorded after locking_transient periods of its
+  // slowest guess (unless `transient` is given), converges and validates.
   bool detect_locking = true;
   int locking_transient = 1000;
   int max_locking_denominator = 10;

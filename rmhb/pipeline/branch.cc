@@ -533,7 +533,8 @@ std::optional<HarmonicSolution> ResumeTorus(const Model& model, const ContinueOp
       at = o.to;
     }
     const Model here = WithParameters(model, {{o.parameter, at}});
-    const double w1 = here.problem.frequencies[0];
+    // A forced torus' w1 is the forcing at `at`; an autonomous one's, its last value.
+    const double w1 = IsForcedTorus(here) ? here.problem.frequencies[0] : w_end[0];
     const HarmonicSolution guess = last.solution.WithFrequencies({w1, (t->lock.p * w1 - beat) / t->lock.q});
     const StartedSolve s = SolveFromAnyStart(here, guess, o.harmonic_balance);
     if (s.summary.usable()) {
@@ -641,9 +642,9 @@ std::optional<HarmonicBalanceSummary> Reselected(const ContinuationProblem& prob
 
 // The branch, and its reports. A torus' trace stops where the basis no
 // longer resolves it; on the adaptive index set the set is enriched there
-// and the trace goes on (Enriched); otherwise a forced torus is taken across
-// the locking tongue (CrossTongue) and traced on past it, stretch by
-// stretch.
+// and the trace goes on (Enriched); otherwise a torus (forced, or
+// autonomous with both frequencies unknown) is taken across the locking
+// tongue (CrossTongue) and traced on past it, stretch by stretch.
 void TraceModelBranch(const Model& model, const ContinueOptions& o, ContinuationProblem problem,
                       const ContinuationOptions& options, HarmonicSolution first, double first_estimate,
                       BranchSummary* b) {
@@ -716,7 +717,8 @@ void TraceModelBranch(const Model& model, const ContinueOptions& o, Continuation
       }
       b->continuation.message += "; " + why;
     }
-    if (!torus || !stopped || !o.locking || !IsForcedTorus(model) || stretch >= o.max_tongues ||
+    if (!torus || !stopped || !o.locking || !(IsForcedTorus(model) || IsAutonomousTorus(model)) ||
+        stretch >= o.max_tongues ||
         c.points.size() - before < 2)
       return;
     TongueReport t;

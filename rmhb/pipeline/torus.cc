@@ -170,6 +170,11 @@ bool IsForcedTorus(const Model& model) {
   return p.frequencies.size() == 2 && p.num_unknown_frequencies() == 1 && !p.unknown_frequency[0];
 }
 
+bool IsAutonomousTorus(const Model& model) {
+  const HarmonicBalanceProblem& p = model.problem;
+  return p.frequencies.size() == 2 && p.num_unknown_frequencies() == 2;
+}
+
 int LockedPeriods(const Model& model, int transient, int max_denominator, double tolerance, double* mismatch) {
   if (!IsForcedTorus(model)) throw std::invalid_argument("LockedPeriods: not a forced torus");
   if (transient < 0 || max_denominator < 1 || !(tolerance > 0))
@@ -213,15 +218,20 @@ Resonance LockedResonance(const HarmonicSolution& locked, int q) {
 
 Model LockedModel(const Model& model, const Resonance& lock) {
   const HarmonicBalanceProblem& problem = model.problem;
-  if (!IsForcedTorus(model))
-    throw std::invalid_argument("locking: a forced torus has two bases, the first (the forcing) known, the second unknown");
+  const bool forced = IsForcedTorus(model);
+  if (!forced && !IsAutonomousTorus(model))
+    throw std::invalid_argument(
+        "locking: a torus has two bases, the first known (the forcing) and the second unknown, or both unknown");
   if (lock.q < 1 || lock.p < 1) throw std::invalid_argument("locking: need p, q >= 1");
-  if (model.num_user_conditions < 1)
-    throw std::invalid_argument("locking: the model has no condition fixing the phase of its free angle");
+  const int free_angles = forced ? 1 : 2;
+  if (model.num_user_conditions < free_angles)
+    throw std::invalid_argument("locking: the model has fewer conditions than the torus has free angles");
   Model out = model;
   out.problem = OnResonantBase(problem, {lock.q, lock.p});
-  // The one user condition fixed the free angle; the locked orbit's phase is the forcing's.
-  out.problem.conditions.erase(out.problem.conditions.begin());
+  // A forced torus' one user condition fixed its free angle; the locked
+  // orbit's phase is the forcing's. An autonomous torus' two fixed both
+  // angles; the locked orbit has one phase, fixed by the first of them.
+  out.problem.conditions.erase(out.problem.conditions.begin() + (forced ? 0 : 1));
   out.num_user_conditions = model.num_user_conditions - 1;
   const auto bind = [lock](const std::vector<double>& w) {
     return std::vector<double>{w[0] * lock.q, w[0] * lock.p};

@@ -92,6 +92,9 @@ Resonance NearestResonance(double ratio, int max_denominator);
 // Two bases, the first known (the forcing), the second unknown: the forced
 // torus LockedModel and LockedPeriods take.
 bool IsForcedTorus(const Model& model);
+// Two bases, both unknown: an autonomous torus (coupled self-excited
+// oscillators), whose frequencies lock too.
+bool IsAutonomousTorus(const Model& model);
 
 // A forced torus' motion, from the model's initial state: locked when its
 // state at multiples of the forcing period T repeats every q periods
@@ -108,8 +111,10 @@ Resonance LockedResonance(const HarmonicSolution& locked, int q);
 // A forced model with one known and one unknown base (w1 the forcing, w2
 // free, fixed in phase by as many of the user's conditions as it has unknown
 // bases) locked at w2 / w1 = p / q: one known base w1 / q, the phase
-// conditions dropped, the original equations bound to (w1, p w1 / q).
-// Throws std::invalid_argument for another kind of model.
+// conditions dropped, the original equations bound to (w1, p w1 / q). An
+// autonomous torus (both bases unknown, two phase conditions): one unknown
+// base w1 / q, the first condition kept (the orbit's phase), the second
+// dropped. Throws std::invalid_argument for another kind of model.
 Model LockedModel(const Model& model, const Resonance& lock);
 // The torus at the rotation number p/q with its second angle shifted by
 // `phase`: a periodic solution on base w1 / q (harmonic (m, n) -> m q + n p).

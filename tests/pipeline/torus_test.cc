@@ -265,6 +265,89 @@ TEST(Torus, ForcedBranchStableByLyapunovAndAcrossTheOneToOneTongue) {
   EXPECT_EQ(b.status, BranchStatus::kCompleted) << b.message;  // locked to the end of the range
 }
 
+// Turns of y's phase against x's of two velocity-coupled Van der Pol
+// oscillators (detuning d) over `window` time after `transient`: 0 inside
+// their 1:1 tongue, >= 1 outside it. By CVODE from the in-phase state.
+int CoupledSlips(double d, double transient, double window) {
+  const double eps = 0.2, k = 0.05;
+  integrators::OdeSystem pair{4, [&](double, const double* u, double* du) {
+                                du[0] = u[1];
+                                du[1] = eps * (1 - u[0] * u[0]) * u[1] - u[0] + k * (u[3] - u[1]);
+                                du[2] = u[3];
+                                du[3] = eps * (1 - u[2] * u[2]) * u[3] - (1 + d) * (1 + d) * u[2] + k * (u[1] - u[3]);
+                              }};
+  integrators::IntegratorOptions o;
+  o.relative_tolerance = 1e-9;
+  o.absolute_tolerance = 1e-11;
+  const auto settle = integrators::IntegrateOde(pair, Eigen::Vector4d(2, 0, 2, 0), 0, {transient}, o);
+  const Eigen::VectorXd u0 = settle.trajectory.states.row(0).transpose();
+  std::vector<double> times;
+  for (double t = transient + 0.25; t <= transient + window; t += 0.25) times.push_back(t);
+  const auto r = integrators::IntegrateOde(pair, u0, transient, times, o);
+  auto difference = [](const Eigen::VectorXd& u) { return std::atan2(-u(3), u(2)) - std::atan2(-u(1), u(0)); };
+  double turned = 0, previous = difference(u0);
+  for (int i = 0; i < r.trajectory.states.rows(); ++i) {
+    const double now = difference(r.trajectory.states.row(i).transpose());
+    turned += std::remainder(now - previous, 2 * M_PI);
+    previous = now;
+  }
+  return static_cast<int>(std::lround(std::abs(turned) / (2 * M_PI)));
+}
+
+// Two velocity-coupled Van der Pol oscillators, the second detuned by d: a
+// model file written here, both frequencies unknown.
+Model CoupledVdp(double d) {
+  const std::string file = ::testing::TempDir() + "/coupled_vdp.yaml";
+  std::ofstream(file) << "name: velocity-coupled-vdp\nvariables: [x, y]\nparameters: {eps: 0.2, k: 0.05, d: 0.15}\n"
+                         "equations:\n  - \"x'' - eps*(1 - x^2)*x' + x = k*(y' - x')\"\n"
+                         "  - \"y'' - eps*(1 - y^2)*y' + (1 + d)^2*y = k*(x' - y')\"\n"
+                         "frequencies:\n  - {guess: 1}\n  - {guess: 1.15}\n"
+                         "conditions:\n  - \"x'(0) = 0\"\n  - \"y'(0) = 0\"\n"
+                         "guess: {x: \"2*cos(w1*t)\", y: \"2*cos(w2*t)\"}\n"
+                         "initial_state: {x: 2, \"x'\": 0, y: 2, \"y'\": 0}\n";
+  Model model = LoadModel(file, {{"d", d}});
+  std::remove(file.c_str());
+  return model;
+}
+
+// Locking of an autonomous torus (both frequencies unknown): two
+// velocity-coupled Van der Pol oscillators, the second detuned by d, in a
+// model file written here. Along d toward 0 the torus meets the 1:1 tongue;
+// the locked orbit (one unknown frequency, the first phase condition kept)
+// is followed to its fold, the tongue's edge, checked by CVODE 1e-4 to
+// either side (no slip inside over 8000 time units, slips outside).
+TEST(Torus, AnAutonomousTorusLocksAtTheEdgeOfTheOneToOneTongue) {
+  const Model model = CoupledVdp(0.15);
+  EXPECT_TRUE(IsAutonomousTorus(model));
+  SolveSettings settings;
+  settings.order = 12;
+  settings.shape = "diamond";
+  settings.shape_given = true;
+  const PreparedSolve prepared = PrepareSolve(model, settings);
+  ContinueOptions o;
+  o.parameter = "d";
+  o.from = 0.15;
+  o.to = 0;
+  o.harmonic_balance = prepared.options;
+  o.tail_tolerance = 1e-4;
+  const BranchSummary b = ContinueModel(prepared.model, prepared.guess, o);
+  ASSERT_GE(b.continuation.points.size(), 3u) << b.FullReport();
+  for (const BranchPointReport& r : b.reports) EXPECT_EQ(r.stability, "stable");
+  ASSERT_EQ(b.tongues.size(), 1u) << b.FullReport();
+  const TongueReport& t = b.tongues[0];
+  EXPECT_EQ(t.lock.p, 1);
+  EXPECT_EQ(t.lock.q, 1);
+  ASSERT_TRUE(std::isfinite(t.near_edge)) << t.Describe("d");
+  // The locked orbit: one unknown frequency, between the two oscillators'.
+  ASSERT_FALSE(t.locked.empty());
+  const HarmonicSolution& locked = t.locked[0].points.front().solution;
+  ASSERT_EQ(locked.frequencies().size(), 1u);
+  EXPECT_NEAR(locked.frequencies()[0], 1.0, 0.05);
+  EXPECT_EQ(CoupledSlips(t.near_edge - 1e-4, 1000, 8000), 0) << t.Describe("d");
+  EXPECT_GE(CoupledSlips(t.near_edge + 1e-4, 1000, 8000), 1) << t.Describe("d");
+  EXPECT_EQ(b.status, BranchStatus::kCompleted) << b.message;  // locked to the end of the range
+}
+
 // A conservative 2-DOF model file written here (not bundled), both
 // frequencies unknown, continued with defaults (as rmhb solve --continue):
 // the first point's adaptive index set and its detected reflection are kept
@@ -333,6 +416,33 @@ TEST(Torus, AnalyzeSaysLockedOrQuasiPeriodicAndSolvesThatOne) {
   EXPECT_EQ(torus.motion.rfind("quasi-periodic", 0), 0u) << torus.motion;
   ASSERT_TRUE(torus.solve && torus.solve->usable()) << torus.FullReport();
   EXPECT_EQ(torus.solve->solution->frequencies().size(), 2u);
+}
+
+// The same for an autonomous torus model (two coupled oscillators, both
+// frequencies unknown): inside the 1:1 tongue (d = 0.02, its edge at 0.050)
+// one base frequency explains the motion and the periodic orbit is solved
+// and validated; outside (d = 0.1) one base carries half the line energy and
+// the torus is solved.
+TEST(Torus, AnalyzeSaysWhenAnAutonomousTorusIsLocked) {
+  auto analyze = [](double d) {  // as rmhb analyze FILE: defaults only
+    SolveSettings settings;
+    settings.default_tol = SolveSettings::kDefaultTolerance;
+    const PreparedSolve prepared = PrepareSolve(CoupledVdp(d), settings);
+    AnalyzeOptions o;
+    o.solve = prepared.options;
+    return Analyze(prepared.model, o);
+  };
+  const AnalyzeSummary locked = analyze(0.02);
+  EXPECT_EQ(locked.motion.rfind("locked: one base frequency", 0), 0u) << locked.motion;
+  ASSERT_TRUE(locked.ok()) << locked.FullReport();
+  ASSERT_EQ(locked.solve->solution->frequencies().size(), 1u);
+  EXPECT_NEAR(locked.solve->solution->frequencies()[0], locked.seed->frequencies[0], 1e-9);
+  EXPECT_EQ(CoupledSlips(0.02, 1000, 3000), 0);
+  const AnalyzeSummary torus = analyze(0.1);
+  EXPECT_EQ(torus.motion.rfind("quasi-periodic", 0), 0u) << torus.motion;
+  ASSERT_TRUE(torus.ok()) << torus.FullReport();
+  EXPECT_EQ(torus.solve->solution->frequencies().size(), 2u);
+  EXPECT_GE(CoupledSlips(0.1, 1000, 3000), 1);
 }
 
 }  // namespace
