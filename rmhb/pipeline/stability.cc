@@ -109,20 +109,24 @@ double ExponentDifference(const HillStabilityReport& hill, const TorusStabilityR
   return worst;
 }
 
-// A torus (METHOD.md s.18): Hill's exponents and the Lyapunov exponents.
-StabilitySummary TorusStabilitySummary(const Model& model, const HarmonicSolution& torus, const StabilityOptions& o) {
+}  // namespace
+
+StabilitySummary TorusStabilityFrom(const HarmonicBalanceProblem& problem, const HarmonicSolution& torus,
+                                    TorusStabilityReport lyapunov, const StabilityOptions& o) {
   StabilitySummary s;
   const std::vector<double>& w = torus.frequencies();
   s.exponent_band = o.neutral_band * *std::min_element(w.begin(), w.end()) / (2 * M_PI);
   s.neutral_band = o.neutral_band;
   try {
-    s.hill = HillStability(model.problem, torus);
+    s.hill = HillStability(problem, torus);
     s.hill_verdict = ExponentVerdict(s.hill->max_real_part, s.exponent_band);
   } catch (const std::invalid_argument& e) {
     s.hill_note = std::string("Hill's method refused: ") + e.what();
+  } catch (const std::runtime_error& e) {  // an eigensolver that did not converge
+    s.hill_note = std::string("Hill's method failed: ") + e.what();
   }
   s.floquet_note = "a torus has no period, so no monodromy matrix: Lyapunov exponents instead";
-  s.lyapunov = TorusStability(model, torus, o.torus);
+  s.lyapunov = std::move(lyapunov);
   if (s.lyapunov->ok) s.lyapunov_verdict = FromPointStability(s.lyapunov->stability);
   const bool lyapunov_ok = s.lyapunov->ok && s.lyapunov_verdict != StabilityVerdict::kUnknown;
   // A trajectory that left the torus has exponents of where it went.
@@ -139,10 +143,11 @@ StabilitySummary TorusStabilitySummary(const Model& model, const HarmonicSolutio
     s.exponent_band = s.lyapunov->tolerance;
     s.judged_by = "Lyapunov";
   }
-  if (!s.judged_by.empty() && model.problem.num_unknown_frequencies() > 0)
-    s.judged_by += ", the trivial exponents left out";
+  if (!s.judged_by.empty() && problem.num_unknown_frequencies() > 0) s.judged_by += ", the trivial exponents left out";
   return s;
 }
+
+namespace {
 
 }  // namespace
 
@@ -185,7 +190,8 @@ StabilityVerdict MultiplierVerdict(const Multipliers& mu, int trivial, double ba
 StabilitySummary Stability(const Model& model, const HarmonicSolution& solution, const StabilityOptions& options) {
   if (const std::string error = options.IsValid(); !error.empty())
     throw std::invalid_argument("stability: " + error);
-  if (solution.frequencies().size() != 1) return TorusStabilitySummary(model, solution, options);
+  if (solution.frequencies().size() != 1)
+    return TorusStabilityFrom(model.problem, solution, TorusStability(model, solution, options.torus), options);
   StabilitySummary s;
   HillPart(model, solution, options, &s);
   FloquetPart(model, solution, options, &s);

@@ -94,6 +94,10 @@ struct StabilitySummary {
 };
 
 StabilitySummary Stability(const Model& model, const HarmonicSolution& solution, const StabilityOptions& options = {});
+// A torus' summary with its Lyapunov exponents computed elsewhere (a branch
+// point's): Hill's method on `problem`, the comparison and the verdict.
+StabilitySummary TorusStabilityFrom(const HarmonicBalanceProblem& problem, const HarmonicSolution& torus,
+                                    TorusStabilityReport lyapunov, const StabilityOptions& options = {});
 
 // The verdict of a set of multipliers, the trivial one (index, or -1) left out.
 StabilityVerdict MultiplierVerdict(const std::vector<std::complex<double>>& multipliers, int trivial,

@@ -253,6 +253,11 @@ TEST(Torus, ForcedBranchStableByLyapunovAndAcrossTheOneToOneTongue) {
     EXPECT_NEAR(r.lyapunov->max_exponent, 0.2 * (1 - mean_square), r.lyapunov->tolerance);
     EXPECT_LE(r.outermost, 1e-4 * (i + 1 == b.continuation.points.size() ? 2 : 1));
   }
+  // The first torus judged by Hill's method too: the same verdict.
+  EXPECT_NE(b.continuation.stability_cross_check.find("stable), Lyapunov"), std::string::npos)
+      << b.continuation.stability_cross_check;
+  EXPECT_NE(b.continuation.stability_cross_check.find("verdicts agree"), std::string::npos)
+      << b.continuation.stability_cross_check;
   // The 1:1 tongue: its near edge a fold of the locked branch, checked by
   // CVODE 1e-4 to either side (no slip inside over 1500 periods, slips outside).
   ASSERT_EQ(b.tongues.size(), 1u) << b.FullReport();
