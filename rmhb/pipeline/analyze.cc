@@ -179,8 +179,9 @@ AnalyzeSummary AnalyzeLocked(const Model& model, const AnalyzeOptions& options, 
 // locked: one unknown base explains it. The model on one base (LockedModel
 // at 1:1; an autonomous model's equations do not contain its frequencies,
 // p/q only maps a torus' harmonics) is analyzed after locking_transient
-// periods of its slowest guess; a converged orbit that CVODE validates is
-// the motion. Else nullopt, with why in *motion.
+// periods of its slowest guess; a converged orbit that CVODE validates, that
+// carries the record's line energy on its one base and has the identified
+// frequency is the motion. Else nullopt, with why in *motion.
 std::optional<AnalyzeSummary> AnalyzeAutonomousLocked(const Model& model, const AnalyzeOptions& options,
                                                      std::string* motion) {
   AnalyzeOptions o = options;
