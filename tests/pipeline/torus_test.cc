@@ -326,7 +326,7 @@ TEST(Torus, AnAutonomousTorusLocksAcrossTheOneToOneTongue) {
   const Model model = CoupledVdp(0.15);
   EXPECT_TRUE(IsAutonomousTorus(model));
   SolveSettings settings;
-  settings.order = 12;
+  settings.order = 10;
   settings.shape = "diamond";
   settings.shape_given = true;
   const PreparedSolve prepared = PrepareSolve(model, settings);
