@@ -682,7 +682,11 @@ void TraceModelBranch(const Model& model, const ContinueOptions& o, Continuation
     // Floquet multipliers the trace looks for.
     if (torus && o.stability) b->continuation.stability_note.clear();
     const bool stopped = c.status == ContinuationStatus::kStopped || c.status == ContinuationStatus::kStepTooSmall;
-    if (torus && stopped && c.message.find(kUnresolved) != std::string::npos &&
+    // Only the watcher set above stops a trace (kStopped): TailWatch on a
+    // torus (the basis no longer resolves it), OrderWatch on a periodic
+    // branch with a target (the order no longer meets it).
+    const bool watched = c.status == ContinuationStatus::kStopped;
+    if (torus && watched &&
         static_cast<int>(b->enrichments.size()) < o.max_enrichments) {
       if (std::optional<HarmonicSolution> richer = Enriched(problem, o, c.points.back())) {
         b->enrichments.push_back({c.points.back().parameter, c.points.back().solution.basis().size(),
@@ -695,7 +699,7 @@ void TraceModelBranch(const Model& model, const ContinueOptions& o, Continuation
         continue;
       }
     }
-    if (!torus && stopped && c.message.find(kOrderShort) != std::string::npos && c.points.size() >= 2 &&
+    if (!torus && watched && c.points.size() >= 2 &&
         static_cast<int>(b->order_raises.size()) < o.max_order_raises && ++reselections <= kMaxReselections) {
       std::string why;
       const ContinuationPoint& last = c.points.back();
