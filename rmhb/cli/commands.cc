@@ -40,7 +40,9 @@ void AddSolveOptions(CLI::App* app, SolveArgs* a) {
   app->add_flag("--stability", a->stability,
                 "Floquet multipliers of a converged periodic solution by Hill's method and by the "
                 "CVODE monodromy matrix of the original equations, their agreement, and the "
-                "verdict (stable, unstable, or neutral within 1e-6 of the unit circle); --json: a `stability` object");
+                "verdict (stable, unstable, or neutral within 1e-6 of the unit circle); a torus: Hill's exponents "
+                "on the torus and the Lyapunov exponents of the original equations, the verdict on the largest "
+                "non-trivial exponent; --json: a `stability` object");
   app->add_option("--validate-periods", a->validate_periods, "Periods to integrate (default 1)")
       ->check(CLI::Range(1, 100000));
   app->add_option("--validate-tol", a->validate_tol,
