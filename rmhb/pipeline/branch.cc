@@ -798,8 +798,7 @@ BranchSummary ContinueModel(const Model& model, const HarmonicSolution& guess, c
                    usable ? started.summary.state_estimate : -1, &b);
   if (b.bases > 1 && !b.reports.empty() && b.reports[0].lyapunov && b.reports[0].lyapunov->ok)
     b.continuation.stability_cross_check =
-        TorusCrossCheck(WithParameters(model, {{o.parameter, b.continuation.points[0].parameter}}),
-                        b.continuation.points[0].solution, *b.reports[0].lyapunov);
+        TorusCrossCheck(start, b.continuation.points[0].solution, *b.reports[0].lyapunov);  // the first point is at o.from
   for (size_t i = 0; i < b.continuation.points.size(); ++i)
     if (!b.reports[i].physical()) b.non_physical.push_back(i);
   b.switched = o.switch_branches;

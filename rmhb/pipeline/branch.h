@@ -71,8 +71,9 @@ struct ContinueOptions {
   int max_enrichments = 4;
   // A periodic branch with an accuracy target (harmonic_balance.tolerance):
   // where a point's coefficient-tail estimate (EstimateTruncation, without
-  // calibration) exceeds the target and twice that of the order's own first
-  // point, the order is selected again there for the target, warm from that
+  // calibration) exceeds a quarter of the target (scaled by the last order
+  // selection's calibration) and twice that of the order's own first point,
+  // the order is selected again there for the target, warm from that
   // point, and the trace goes on at the higher order (at most
   // max_order_raises times); a selection short of the target stops the trace.
   int max_order_raises = 6;

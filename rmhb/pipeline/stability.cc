@@ -147,10 +147,6 @@ StabilitySummary TorusStabilityFrom(const HarmonicBalanceProblem& problem, const
   return s;
 }
 
-namespace {
-
-}  // namespace
-
 bool StabilitySummary::agree() const {
   if (!torus()) return hill_verdict == floquet_verdict;
   if (!hill || !lyapunov->ok) return false;
@@ -258,40 +254,42 @@ std::string TorusReport(const StabilitySummary& s) {
   return out;
 }
 
+// A periodic solution's lines: Hill's and CVODE's multipliers, their agreement.
+std::string PeriodicReport(const StabilitySummary& s) {
+  std::string out;
+  char text[256];
+  if (s.hill) {
+    std::snprintf(text, sizeof text, "stability    %-8s %-8s multipliers", "Hill", ToString(s.hill_verdict));
+    out += text;
+    AppendMultipliers(s.hill->multipliers, &out);
+    out += "\n";
+  } else {
+    out += "stability    Hill: " + s.hill_note + "\n";
+  }
+  if (!s.floquet) {
+    out += "stability    CVODE: " + s.floquet_note + "\n";
+  } else if (!s.floquet->ok) {
+    out += "stability    CVODE: integration failed: " + s.floquet->message + "\n";
+  } else {
+    std::snprintf(text, sizeof text, "stability    %-8s %-8s multipliers", "CVODE", ToString(s.floquet_verdict));
+    out += text;
+    AppendMultipliers(s.floquet->multipliers, &out);
+    out += "\n";
+  }
+  if (s.max_multiplier_difference && std::isfinite(*s.max_multiplier_difference)) {
+    std::snprintf(text, sizeof text, "stability    the two agree to %.3e (max |mu_Hill - mu_CVODE|), verdicts %s\n",
+                  *s.max_multiplier_difference, s.agree() ? "agree" : "DISAGREE");
+    out += text;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string StabilitySummary::FullReport() const {
-  std::string out;
-  char text[256];
-  if (torus()) {
-    out = TorusReport(*this);
-  } else if (hill) {
-    std::snprintf(text, sizeof text, "stability    %-8s %-8s multipliers", "Hill", ToString(hill_verdict));
-    out += text;
-    AppendMultipliers(hill->multipliers, &out);
-    out += "\n";
-  } else {
-    out += "stability    Hill: " + hill_note + "\n";
-  }
-  if (torus()) {
-    // TorusReport said it.
-  } else if (!floquet) {
-    out += "stability    CVODE: " + floquet_note + "\n";
-  } else if (!floquet->ok) {
-    out += "stability    CVODE: integration failed: " + floquet->message + "\n";
-  } else {
-    std::snprintf(text, sizeof text, "stability    %-8s %-8s multipliers", "CVODE", ToString(floquet_verdict));
-    out += text;
-    AppendMultipliers(floquet->multipliers, &out);
-    out += "\n";
-  }
-  if (max_multiplier_difference && std::isfinite(*max_multiplier_difference)) {
-    std::snprintf(text, sizeof text, "stability    the two agree to %.3e (max |mu_Hill - mu_CVODE|), verdicts %s\n",
-                  *max_multiplier_difference, agree() ? "agree" : "DISAGREE");
-    out += text;
-  }
   const std::string judged = Judged();
-  return out + "stability    " + ToString(verdict) + (judged.empty() ? "" : ": " + judged) + "\n";
+  return (torus() ? TorusReport(*this) : PeriodicReport(*this)) + "stability    " + ToString(verdict) +
+         (judged.empty() ? "" : ": " + judged) + "\n";
 }
 
 // "largest |mu| 0.811038697498 < 1 - 1e-06 (CVODE)": the number the verdict

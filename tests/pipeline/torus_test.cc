@@ -28,6 +28,25 @@ namespace {
 
 constexpr const char* kVdp = "tests/pipeline/models/weakly-forced-vdp.yaml";
 
+// The model prepared as `rmhb solve --p order --basis diamond` does.
+PreparedSolve OnDiamond(const Model& model, int order) {
+  SolveSettings settings;
+  settings.order = order;
+  settings.shape = "diamond";
+  settings.shape_given = true;
+  return PrepareSolve(model, settings);
+}
+
+// `--continue name=from:to` from the prepared options.
+ContinueOptions Range(const std::string& name, double from, double to, const PreparedSolve& prepared) {
+  ContinueOptions o;
+  o.parameter = name;
+  o.from = from;
+  o.to = to;
+  o.harmonic_balance = prepared.options;
+  return o;
+}
+
 // `rmhb solve FILE --stability` from the library: the file written here,
 // defaults only.
 struct SolvedFile {
@@ -226,17 +245,8 @@ int PhaseSlips(double w, int transient, int window) {
 }
 
 TEST(Torus, ForcedBranchStableByLyapunovAndAcrossTheOneToOneTongue) {
-  Model model = LoadModel(kVdp, {{"w", 1.09}});
-  SolveSettings settings;
-  settings.order = 16;
-  settings.shape = "diamond";
-  settings.shape_given = true;
-  const PreparedSolve prepared = PrepareSolve(model, settings);
-  ContinueOptions o;
-  o.parameter = "w";
-  o.from = 1.09;
-  o.to = 1.0;
-  o.harmonic_balance = prepared.options;
+  const PreparedSolve prepared = OnDiamond(LoadModel(kVdp, {{"w", 1.09}}), 16);
+  ContinueOptions o = Range("w", 1.09, 1.0, prepared);
   o.tail_tolerance = 1e-4;
   o.steps = 5;  // the coefficients, not w, make the arclength: larger steps than w's range / 10
   o.max_step = 0.05;
@@ -325,16 +335,8 @@ Model CoupledVdp(double d) {
 TEST(Torus, AnAutonomousTorusLocksAcrossTheOneToOneTongue) {
   const Model model = CoupledVdp(0.15);
   EXPECT_TRUE(IsAutonomousTorus(model));
-  SolveSettings settings;
-  settings.order = 10;
-  settings.shape = "diamond";
-  settings.shape_given = true;
-  const PreparedSolve prepared = PrepareSolve(model, settings);
-  ContinueOptions o;
-  o.parameter = "d";
-  o.from = 0.15;
-  o.to = -0.15;
-  o.harmonic_balance = prepared.options;
+  const PreparedSolve prepared = OnDiamond(model, 10);
+  ContinueOptions o = Range("d", 0.15, -0.15, prepared);
   o.tail_tolerance = 1e-3;
   o.stability = false;  // the forced branch's test has the Lyapunov verdicts
   const BranchSummary b = ContinueModel(prepared.model, prepared.guess, o);
