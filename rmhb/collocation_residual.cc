@@ -106,6 +106,7 @@ void CollocationResidual::SetUpLinearAlgebra() {
   };
   reduced_row_ = inverse(kept_residuals_, full_residuals_);
   reduced_column_ = inverse(kept_unknowns_, full_unknowns_);
+  if (!kept_unknowns_.empty()) SetUpKeptHarmonics();
   tangent_samples_.assign(slots_.size(), Eigen::VectorXd(M_));
   // Which (equation, unknown variable) blocks are nonzero: a condensed
   // variable's slots land on its source's columns.
@@ -159,6 +160,28 @@ void CollocationResidual::SetUpSymmetries() {
   num_unknowns_ = static_cast<int>(kept_unknowns_.size());
   num_residuals_ = static_cast<int>(kept_residuals_.size());
   full_x_.setZero(full_unknowns_);
+}
+
+void CollocationResidual::SetUpKeptHarmonics() {
+  // Harmonic k of equation i's rows, or of variable j's columns (through its
+  // definition when condensed), is kept when one of its coefficients is.
+  row_harmonics_.assign(equations_.size(), std::vector<char>(basis_.size(), 0));
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    if (eq.first_row < 0) continue;
+    const int skip = eq.balance_constant ? 0 : 1;
+    for (int c = skip; c < C_; ++c)
+      if (reduced_row_[eq.first_row + c - skip] >= 0) row_harmonics_[i][(c + 1) / 2] = 1;
+  }
+  const std::vector<double> unit_rates(basis_.size(), 1.0);
+  column_harmonics_.assign(n_, std::vector<char>(basis_.size(), 0));
+  for (int j = 0; j < n_; ++j)
+    for (int c = 0; c < C_; ++c) {
+      int column = 0;
+      double factor = 0;
+      if (ChainColumn(j, c, unit_rates, &column, &factor) && reduced_column_[column] >= 0)
+        column_harmonics_[j][(c + 1) / 2] = 1;
+    }
 }
 
 void CollocationResidual::SetUpCondensation() {
@@ -248,10 +271,11 @@ void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
                                            const Eigen::Ref<const Eigen::MatrixXd>& block, int j,
                                            const Eigen::VectorXd& X) const {
   const int rows = static_cast<int>(block.rows());
+  const char* kept = column_harmonics_.empty() ? nullptr : column_harmonics_[j].data();
   int column = 0;
   double factor = 0;
   for (int c = 0; c < C_; ++c)
-    if (ChainColumn(j, c, rates_, &column, &factor))
+    if ((!kept || kept[(c + 1) / 2]) && ChainColumn(j, c, rates_, &column, &factor))
       J->col(column).segment(row, rows) += factor * block.col(c);
   if (column_[j] >= 0) return;
   // The definition's dependence on the unknown frequencies.
@@ -262,7 +286,8 @@ void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
     auto column = J->col(FrequencyColumn(b)).segment(row, rows);
     for (int k = 1; k < basis_.size(); ++k) {
       const double m = d.ratio * basis_.harmonic(k)[b];
-      if (m != 0) column += m * (A[2 * k] * block.col(2 * k - 1) - A[2 * k - 1] * block.col(2 * k));
+      if (m != 0 && (!kept || kept[k]))
+        column += m * (A[2 * k] * block.col(2 * k - 1) - A[2 * k - 1] * block.col(2 * k));
     }
   }
 }
@@ -699,8 +724,10 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
       const int j = slots_[s].variable;
       transform_->Analyze(work_.data());
       block_.setZero(C_, C_);
-      transform_->AddMultiplicationMatrix(1.0, slots_[s].derivative ? rates_.data() : nullptr,
-                                          block_);
+      // Only the entries the symmetry reduction keeps (METHOD.md s.13).
+      transform_->AddMultiplicationMatrix(1.0, slots_[s].derivative ? rates_.data() : nullptr, block_,
+                                          row_harmonics_.empty() ? nullptr : row_harmonics_[i].data(),
+                                          column_harmonics_.empty() ? nullptr : column_harmonics_[j].data());
       AddVariableBlock(jacobian, eq.first_row, block_.bottomRows(rows), j, x);
       if (slots_[s].derivative == 0) continue;
       // z' = sum_b w_b d z / d theta_b: a column per unknown frequency.

@@ -126,6 +126,8 @@ class CollocationResidual : public NonlinearProblem {
   bool EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                     Eigen::MatrixXd* jacobian);
   void SetUpSymmetries();
+  // row_harmonics_, column_harmonics_ from the kept rows and columns.
+  void SetUpKeptHarmonics();
   void SetUpCondensation();
   // Condensed unknowns -> the full layout (defined variables computed).
   void Expand(const Eigen::VectorXd& x, Eigen::VectorXd* full) const;
@@ -217,6 +219,10 @@ class CollocationResidual : public NonlinearProblem {
   Eigen::VectorXd tangent_residual_;
   // Full index -> reduced index, -1 where a symmetry drops it.
   std::vector<int> reduced_row_, reduced_column_;
+  // Under a symmetry, per equation (rows) and per variable (columns): 1 where
+  // the reduced Jacobian keeps a coefficient of that harmonic. The dense
+  // Jacobian is assembled only there; empty without symmetries.
+  std::vector<std::vector<char>> row_harmonics_, column_harmonics_;
   double density_ = 1;
 };
 

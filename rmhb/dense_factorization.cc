@@ -145,9 +145,22 @@ DenseQr& DenseQr::compute(Eigen::MatrixXd&& A) {
     throw std::invalid_argument("DenseQr: the matrix is " + std::to_string(A.rows()) + " x " +
                                 std::to_string(A.cols()) + ", fewer rows than columns");
   const int m = Dimension(A.rows(), "DenseQr"), n = Dimension(A.cols(), "DenseQr");
+  use_small_ = n > 0 && n <= kMaxEigenQrColumns;
   qr_ = std::move(A);
   tau_.assign(n, 0.0);
   if (n == 0) return *this;
+  if (use_small_) {
+    // dgeqr2's loop: column i's reflector, applied to the columns right of it.
+    Eigen::VectorXd work(n);
+    for (int i = 0; i < n; ++i) {
+      double beta = 0;
+      qr_.col(i).tail(m - i).makeHouseholderInPlace(tau_[i], beta);
+      qr_(i, i) = beta;
+      qr_.bottomRightCorner(m - i, n - i - 1)
+          .applyHouseholderOnTheLeft(qr_.col(i).tail(m - i - 1), tau_[i], work.data());
+    }
+    return *this;
+  }
   PinThreads(n);
   int info = 0, query = -1;
   double size = 0;
@@ -160,13 +173,29 @@ DenseQr& DenseQr::compute(Eigen::MatrixXd&& A) {
 }
 
 Eigen::VectorXd DenseQr::solve(const Eigen::VectorXd& b) const {
-  const int m = static_cast<int>(qr_.rows()), n = static_cast<int>(qr_.cols());
+  const Eigen::MatrixXd& qr = qr_;
+  const int m = static_cast<int>(qr.rows()), n = static_cast<int>(qr.cols());
   if (b.size() != m)
     throw std::invalid_argument("DenseQr::solve: right-hand side of size " +
                                 std::to_string(b.size()) + " for a matrix of " + std::to_string(m) +
                                 " rows");
   Eigen::VectorXd c = b;
   if (n == 0) return Eigen::VectorXd(0);
+  if (use_small_) {
+    // Q' b reflector by reflector (H_i = I - tau_i v_i v_i', v_i = [1; below
+    // the diagonal of column i]), then R x = (Q' b)(0:n), as dorm2r/dtrtrs.
+    for (int i = 0; i < n; ++i) {
+      const int below = m - i - 1;
+      const double dot = c(i) + qr.col(i).tail(below).dot(c.tail(below));
+      const double scale = tau_[i] * dot;
+      c(i) -= scale;
+      c.tail(below) -= scale * qr.col(i).tail(below);
+    }
+    if ((qr.diagonal().array() == 0).any()) return NotANumber(n);
+    Eigen::VectorXd x = c.head(n);
+    qr.topLeftCorner(n, n).triangularView<Eigen::Upper>().solveInPlace(x);
+    return x;
+  }
   PinThreads(n);
   // Q' b, then R x = (Q' b)(0:n). One right-hand side: the unblocked
   // dorm2r applies the reflectors one by one (2 m n flops); the blocked

@@ -48,6 +48,12 @@ constexpr int kMinThreadedDimension = 500;
 // 1.9e-12 (tests/cli/scaling_test.cc).
 constexpr int kMaxEigenLuDimension = 32;
 
+// Tall matrices up to this many columns are factorised and solved by
+// Householder reflectors applied one by one in Eigen (unblocked, as dgeqr2): at these sizes OpenBLAS's dgeqr2/dorm2r call
+// dgemv and dger once per column, and that overhead (with its thread checks)
+// was 15 % of the relativistic oscillator's solve at N = 55 (58 x 57).
+constexpr int kMaxEigenQrColumns = 96;
+
 // Threads for factorisations of kMinThreadedDimension columns and more;
 // 0 (the default) leaves OpenBLAS's own choice. Process-wide, like
 // OpenBLAS's setting; throws std::invalid_argument when negative.
@@ -98,6 +104,7 @@ class DenseQr {
  private:
   Eigen::MatrixXd qr_;
   std::vector<double> tau_;
+  bool use_small_ = false;  // columns <= kMaxEigenQrColumns
 };
 
 }  // namespace rmhb

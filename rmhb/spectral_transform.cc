@@ -9,7 +9,6 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <set>
 #include <stdexcept>
 #include <utility>
 
@@ -108,24 +107,28 @@ SpectralTransform::SpectralTransform(const HarmonicBasis& basis, const Sampling&
 
   // Each harmonic must own a distinct grid frequency (up to sign), else the
   // grid cannot tell its cos and sin apart from another's.
-  std::set<std::vector<int>> seen;
+  // Keys: the flat grid index of g or of -g, whichever is smaller; two
+  // harmonics collide exactly when their keys are equal.
+  std::vector<long> keys(basis.size());
+  grid_index_.reserve(static_cast<size_t>(basis.size()) * dims_);
   for (int k = 0; k < basis.size(); ++k) {
-    std::vector<int> g(dims_), neg(dims_);
+    long g = 0, neg = 0;
     for (int d = 0; d < dims_; ++d) {
       long v = 0;
       for (int i = 0; i < basis.num_bases(); ++i) v += long(sampling.embedding[d][i]) * basis.harmonic(k)[i];
       grid_index_.push_back(static_cast<int>(v));
-      g[d] = Mod(v, sampling.grid[d]);
-      neg[d] = Mod(-v, sampling.grid[d]);
+      g = g * sampling.grid[d] + Mod(v, sampling.grid[d]);
+      neg = neg * sampling.grid[d] + Mod(-v, sampling.grid[d]);
     }
     if (k > 0 && g == neg)
       throw std::invalid_argument("SpectralTransform: harmonic " + std::to_string(k) +
                                   " sits at the Nyquist frequency of the grid; use more samples");
-    if (seen.count(g) || seen.count(neg))
-      throw std::invalid_argument("SpectralTransform: two harmonics share a grid frequency; "
-                                  "the sampling is too coarse for the basis");
-    seen.insert(g);
+    keys[k] = std::min(g, neg);
   }
+  std::sort(keys.begin(), keys.end());
+  if (std::adjacent_find(keys.begin(), keys.end()) != keys.end())
+    throw std::invalid_argument("SpectralTransform: two harmonics share a grid frequency; "
+                                "the sampling is too coarse for the basis");
 
   analysed_.resize(half_total_);
   if (backend == Backend::kDense && dims_ != 1)
@@ -279,12 +282,16 @@ void SpectralTransform::Analyze(const double* samples) {
 }
 
 void SpectralTransform::AddMultiplicationMatrix(double scale, const double* rate,
-                                                Eigen::Ref<Eigen::MatrixXd> out) const {
-  AddMultiplicationBlock(scale, rate, 0, basis_.size(), out);
+                                                Eigen::Ref<Eigen::MatrixXd> out,
+                                                const char* row_harmonics,
+                                                const char* column_harmonics) const {
+  AddMultiplicationBlock(scale, rate, 0, basis_.size(), out, row_harmonics, column_harmonics);
 }
 
 void SpectralTransform::AddMultiplicationBlock(double scale, const double* rate, int first,
-                                               int last, Eigen::Ref<Eigen::MatrixXd> out) const {
+                                               int last, Eigen::Ref<Eigen::MatrixXd> out,
+                                               const char* row_harmonics,
+                                               const char* column_harmonics) const {
   int sum[3], diff[3];
   // One angle: the spectrum at every grid index k +- l can reach, gathered
   // once (the general lookup reduces indices modulo the grid per entry,
@@ -313,8 +320,10 @@ void SpectralTransform::AddMultiplicationBlock(double scale, const double* rate,
   // Column l of E*diag(p)E: product of p with cos/sin of harmonic l, whose
   // component at harmonic k is c = (P[k-l] +- P[k+l]) / 2 (or /2i).
   for (int l = first; l < last; ++l) {
+    if (column_harmonics && !column_harmonics[l]) continue;
     const int* gl = &grid_index_[l * dims_];
     for (int k = first; k < last; ++k) {
+      if (row_harmonics && !row_harmonics[k]) continue;
       const int* gk = &grid_index_[k * dims_];
       for (int d = 0; d < dims_; ++d) {
         sum[d] = gk[d] + gl[d];

@@ -63,15 +63,22 @@ class SpectralTransform {
   // may be weighted: column l of E is replaced by the derivative-style
   // combination given by `derivative_rates` when not null (rate[l] = k_l.w):
   // cos -> -rate sin, sin -> rate cos, constant -> 0. This is E* diag(p) E D.
+  // Harmonics whose flag is 0 in `row_harmonics` (rows) or
+  // `column_harmonics` (columns), arrays over the basis when not null, are
+  // skipped and left as they were in `out`: a Jacobian that a symmetry will
+  // reduce needs only the entries it keeps (a quarter under a half-wave one).
   void AddMultiplicationMatrix(double scale, const double* derivative_rates,
-                               Eigen::Ref<Eigen::MatrixXd> out) const;
+                               Eigen::Ref<Eigen::MatrixXd> out,
+                               const char* row_harmonics = nullptr,
+                               const char* column_harmonics = nullptr) const;
   // The same restricted to the basis harmonics [first, last) (rows and
   // columns both): out is the block of their coefficients, the constant (if
   // first = 0) then cos, sin per harmonic. Sparse Jacobians and their
   // preconditioners (METHOD.md s.17) take the low harmonics' block and the
   // 2 x 2 diagonal blocks of the higher ones without the whole C x C block.
   void AddMultiplicationBlock(double scale, const double* derivative_rates, int first, int last,
-                              Eigen::Ref<Eigen::MatrixXd> out) const;
+                              Eigen::Ref<Eigen::MatrixXd> out, const char* row_harmonics = nullptr,
+                              const char* column_harmonics = nullptr) const;
 
   // exp(i g.phi_s) phase of sample s for integer grid vector g, as the
   // fraction (g.s mod M)/M per angle; used to sample time functions exactly.

@@ -107,31 +107,37 @@ TEST(DenseLu, ThreadedFactorisationIsReproducible) {
   EXPECT_LT((single - x1).cwiseAbs().maxCoeff(), 1e-13);
 }
 
+// Both paths: Eigen's reflectors up to kMaxEigenQrColumns, LAPACK above.
 TEST(DenseQr, ConsistentOverdeterminedSystemGivesTheExactSolution) {
-  const Eigen::MatrixXd A = WellConditioned(41, 40, 23);
-  const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(40, 0.5, -3.0);
-  DenseQr qr;
-  qr.compute(A);
-  EXPECT_LT((qr.solve(A * exact) - exact).cwiseAbs().maxCoeff(), 1e-13);
+  for (int n : {40, kMaxEigenQrColumns + 20}) {
+    const Eigen::MatrixXd A = WellConditioned(n + 1, n, 23);
+    const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, 0.5, -3.0);
+    DenseQr qr;
+    qr.compute(A);
+    EXPECT_LT((qr.solve(A * exact) - exact).cwiseAbs().maxCoeff(), 1e-13) << n << " columns";
+  }
 }
 
 // An inconsistent right-hand side: the least-squares solution satisfies the
 // normal equations A'(A x - b) = 0; |R_ii| are the same as any QR's.
 TEST(DenseQr, LeastSquaresMatchesTheNormalEquations) {
-  const Eigen::MatrixXd A = WellConditioned(60, 25, 29);
-  std::srand(31);
-  const Eigen::VectorXd b = Eigen::VectorXd::Random(60);
-  DenseQr qr;
-  qr.compute(A);
-  const Eigen::VectorXd x = qr.solve(b);
-  const Eigen::VectorXd normal = (A.transpose() * A).ldlt().solve(A.transpose() * b);
-  EXPECT_LT((x - normal).cwiseAbs().maxCoeff(), 1e-13);
-  EXPECT_LT((A.transpose() * (A * x - b)).cwiseAbs().maxCoeff(), 1e-12);
-  const Eigen::HouseholderQR<Eigen::MatrixXd> eigen(A);
-  EXPECT_LT((qr.matrixQR().diagonal().cwiseAbs() - eigen.matrixQR().diagonal().cwiseAbs())
-                .cwiseAbs()
-                .maxCoeff(),
-            1e-12);
+  for (int n : {25, kMaxEigenQrColumns + 5}) {
+    const Eigen::MatrixXd A = WellConditioned(n + 35, n, 29);
+    std::srand(31);
+    const Eigen::VectorXd b = Eigen::VectorXd::Random(n + 35);
+    DenseQr qr;
+    qr.compute(A);
+    const Eigen::VectorXd x = qr.solve(b);
+    const Eigen::VectorXd normal = (A.transpose() * A).ldlt().solve(A.transpose() * b);
+    EXPECT_LT((x - normal).cwiseAbs().maxCoeff(), 1e-13) << n << " columns";
+    EXPECT_LT((A.transpose() * (A * x - b)).cwiseAbs().maxCoeff(), 1e-12) << n << " columns";
+    const Eigen::HouseholderQR<Eigen::MatrixXd> eigen(A);
+    EXPECT_LT((qr.matrixQR().diagonal().cwiseAbs() - eigen.matrixQR().diagonal().cwiseAbs())
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-12)
+        << n << " columns";
+  }
 }
 
 TEST(DenseQr, RankDeficientGivesNaNAndMisuseThrows) {
