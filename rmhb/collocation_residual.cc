@@ -182,6 +182,14 @@ void CollocationResidual::SetUpKeptHarmonics() {
       if (ChainColumn(j, c, unit_rates, &column, &factor) && reduced_column_[column] >= 0)
         column_harmonics_[j][(c + 1) / 2] = 1;
     }
+  auto coefficients = [&](const std::vector<char>& harmonics) {
+    std::vector<int> kept;
+    for (int c = 0; c < C_; ++c)
+      if (harmonics[(c + 1) / 2]) kept.push_back(c);
+    return kept;
+  };
+  for (const auto& h : row_harmonics_) row_coefficients_.push_back(coefficients(h));
+  for (const auto& h : column_harmonics_) column_coefficients_.push_back(coefficients(h));
 }
 
 void CollocationResidual::SetUpCondensation() {
@@ -606,17 +614,22 @@ void CollocationResidual::SampleSlots(const Eigen::VectorXd& x) {
   Frequencies(x, &w);
   for (int k = 0; k < basis_.size(); ++k) rates_[k] = basis_.Frequency(k, w);
   for (size_t s = 0; s < slots_.size(); ++s) {
-    const double* X = x.data() + slots_[s].variable * C_;
-    if (slots_[s].derivative == 0) {
-      transform_->Synthesize(X, slot_samples_[s].data());
-    } else {
+    const int j = slots_[s].variable;
+    const double* X = x.data() + j * C_;
+    const double* coefficients = X;
+    if (slots_[s].derivative != 0) {
       coef_(0) = 0;
       for (int k = 1; k < basis_.size(); ++k) {
         coef_(2 * k - 1) = rates_[k] * X[2 * k];
         coef_(2 * k) = -rates_[k] * X[2 * k - 1];
       }
-      transform_->Synthesize(coef_.data(), slot_samples_[s].data());
+      coefficients = coef_.data();
     }
+    // x comes through Layout: zero where a symmetry drops a coefficient.
+    if (column_coefficients_.empty())
+      transform_->Synthesize(coefficients, slot_samples_[s].data());
+    else
+      transform_->SynthesizeSome(coefficients, column_coefficients_[j], slot_samples_[s].data());
   }
   if (!pointwise_values_.empty()) EvaluatePointwise(w);
 }
@@ -716,7 +729,13 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
     const int rows = C_ - skip;
     EvaluateSamples(eq, -1, work_.data());
     if (!work_.allFinite()) return false;
-    transform_->Project(work_.data(), proj_.data());
+    // Rows a symmetry drops: zeros (their harmonics vanish on symmetric x).
+    auto project = [&](const double* samples) {
+      if (row_coefficients_.empty()) return transform_->Project(samples, proj_.data());
+      proj_.setZero();
+      transform_->ProjectSome(samples, row_coefficients_[i], proj_.data());
+    };
+    project(work_.data());
     residual->segment(eq.first_row, rows) = proj_.tail(rows);
     if (!jacobian) continue;
     for (int s : eq.slots) {
@@ -740,9 +759,12 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
           coef_(2 * k - 1) = rate * X[2 * k];
           coef_(2 * k) = -rate * X[2 * k - 1];
         }
-        transform_->Synthesize(coef_.data(), term_.data());
+        if (column_coefficients_.empty())
+          transform_->Synthesize(coef_.data(), term_.data());
+        else
+          transform_->SynthesizeSome(coef_.data(), column_coefficients_[j], term_.data());
         term_.array() *= work_.array();
-        transform_->Project(term_.data(), proj_.data());
+        project(term_.data());
         jacobian->col(FrequencyColumn(b)).segment(eq.first_row, rows) += proj_.tail(rows);
       }
     }

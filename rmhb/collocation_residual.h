@@ -223,6 +223,8 @@ class CollocationResidual : public NonlinearProblem {
   // the reduced Jacobian keeps a coefficient of that harmonic. The dense
   // Jacobian is assembled only there; empty without symmetries.
   std::vector<std::vector<char>> row_harmonics_, column_harmonics_;
+  // The same as coefficient indices (0 .. C_ - 1), for the transforms.
+  std::vector<std::vector<int>> row_coefficients_, column_coefficients_;
   double density_ = 1;
 };
 

@@ -239,6 +239,21 @@ void SpectralTransform::Synthesize(const double* x, double* samples) {
   std::memcpy(samples, real_, sizeof(double) * total_);
 }
 
+void SpectralTransform::SynthesizeSome(const double* x, const std::vector<int>& some, double* samples) {
+  if (!dense_) return Synthesize(x, samples);
+  Eigen::Map<Eigen::VectorXd> out(samples, total_);
+  out.setZero();
+  for (int c : some) out += x[c] * dense_tables_->synthesis.col(c);
+}
+
+void SpectralTransform::ProjectSome(const double* samples, const std::vector<int>& some, double* x) {
+  if (!dense_) return Project(samples, x);
+  // Row c of E* is column c of E times 2/M (1/M for the mean): a contiguous dot.
+  const Eigen::Map<const Eigen::VectorXd> p(samples, total_);
+  const double scale = 2.0 / double(total_);
+  for (int c : some) x[c] = (c == 0 ? 0.5 * scale : scale) * dense_tables_->synthesis.col(c).dot(p);
+}
+
 void SpectralTransform::ForwardFftw(const double* samples) {
   std::memcpy(real_, samples, sizeof(double) * total_);
   fftw_execute_dft_r2c(static_cast<fftw_plan>(forward_), real_, reinterpret_cast<fftw_complex*>(spectrum_));

@@ -57,6 +57,12 @@ class SpectralTransform {
   void Synthesize(const double* coefficients, double* samples);
   // coefficients = E* samples.
   void Project(const double* samples, double* coefficients);
+  // The same for a vector that is zero outside `coefficients` (synthesis),
+  // or wanted only at them (projection; the rest of `coefficients_out` is
+  // left as it was): a symmetry's dropped harmonics. Dense tables only
+  // skip them; FFTW transforms everything.
+  void SynthesizeSome(const double* coefficients, const std::vector<int>& some, double* samples);
+  void ProjectSome(const double* samples, const std::vector<int>& some, double* coefficients_out);
   // Stores the discrete spectrum of `samples` for MultiplicationMatrix.
   void Analyze(const double* samples);
   // out += scale * E* diag(p) E, p the last analysed function. Columns of E
