@@ -546,6 +546,16 @@ void CollocationResidual::EvaluatePointwise(const std::vector<double>& w) {
     pointwise_in_.resize(1 + n + w.size());
     pointwise_out_.resize(1 + n);
     Eigen::MatrixXd& values = pointwise_values_[eq.pointwise_index];
+    if (eq.pointwise->evaluate_many) {
+      // Every sample in one call: columns t, the slots, the frequencies.
+      Eigen::MatrixXd& in = pointwise_many_in_;
+      in.resize(M_, static_cast<long>(1 + n + w.size()));
+      for (long t = 0; t < M_; ++t) in(t, 0) = sample_phase_[t] / w[0];
+      for (size_t i = 0; i < n; ++i) in.col(static_cast<long>(1 + i)) = slot_samples_[eq.slots[i]];
+      for (size_t b = 0; b < w.size(); ++b) in.col(static_cast<long>(1 + n + b)).setConstant(w[b]);
+      eq.pointwise->evaluate_many(M_, in.data(), M_, values.data(), values.rows());
+      continue;
+    }
     for (size_t b = 0; b < w.size(); ++b) pointwise_in_[1 + n + b] = w[b];
     for (long t = 0; t < M_; ++t) {
       // t = theta_1 / w_1: explicit time only in models of one known base

@@ -204,6 +204,7 @@ class CollocationResidual : public NonlinearProblem {
   // Per pointwise equation: samples x (value, d/d(slot) per slot of eq.slots).
   std::vector<Eigen::MatrixXd> pointwise_values_;
   std::vector<double> pointwise_in_, pointwise_out_;
+  Eigen::MatrixXd pointwise_many_in_;  // samples x (t, slots, frequencies)
   std::vector<double> sample_phase_;  // 2 pi s / M of base 1, per sample
   // Kept by Linearize: the layout X, the rates at its frequencies, the
   // partials [equation][slot of eq.slots] at the samples, the point

@@ -40,6 +40,11 @@ struct PointwiseEquation {
   // in: t, the slot values, then the base frequencies; out: the value, then
   // d/d(slot) for every slot. Must be callable from several threads.
   std::function<void(const double* in, double* out)> evaluate;
+  // Optional, the same at `count` points at once: input k of point t at
+  // in[k * in_stride + t], output i at out[i * out_stride + t]. The
+  // collocation residual takes it for all its samples in one call.
+  std::function<void(long count, const double* in, long in_stride, double* out, long out_stride)>
+      evaluate_many;
   std::string text;  // as the user wrote it, for reports
   // How the equation transforms when every variable changes sign and t
   // moves by half the period of one base (x -> -x, t -> t + T/2): -1 or +1

@@ -1,5 +1,6 @@
 #include "rmhb/model/compiled_function.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rmhb::model {
@@ -74,6 +75,88 @@ void CompiledFunction::Evaluate(const double* inputs, double* outputs, std::vect
     }
   }
   for (std::size_t k = 0; k < outputs_.size(); ++k) outputs[k] = r[outputs_[k]];
+}
+
+namespace {
+
+template <typename F>
+void Map1(long count, const double* a, double* r, F f) {
+  for (long t = 0; t < count; ++t) r[t] = f(a[t]);
+}
+
+template <typename F>
+void Map2(long count, const double* a, const double* b, double* r, F f) {
+  for (long t = 0; t < count; ++t) r[t] = f(a[t], b[t]);
+}
+
+}  // namespace
+
+void CompiledFunction::EvaluateMany(long count, const double* inputs, long input_stride,
+                                    double* outputs, long output_stride,
+                                    std::vector<double>* work) const {
+  const std::size_t needed = code_.size() * static_cast<std::size_t>(count);
+  if (work->size() < needed) work->resize(needed);
+  double* w = work->data();
+  auto reg = [&](int i) { return w + static_cast<long>(i) * count; };
+  const int size = static_cast<int>(code_.size());
+  for (int i = 0; i < size; ++i) {
+    const Instruction& in = code_[i];
+    double* r = reg(i);
+    const double* a = in.op == Op::kConst || in.op == Op::kInput ? nullptr : reg(in.a);
+    switch (in.op) {
+      case Op::kConst: std::fill(r, r + count, in.value); break;
+      case Op::kInput: std::copy(inputs + in.a * input_stride, inputs + in.a * input_stride + count, r); break;
+      case Op::kAdd: Map2(count, a, reg(in.b), r, [](double x, double y) { return x + y; }); break;
+      case Op::kSub: Map2(count, a, reg(in.b), r, [](double x, double y) { return x - y; }); break;
+      case Op::kMul: Map2(count, a, reg(in.b), r, [](double x, double y) { return x * y; }); break;
+      case Op::kDiv: Map2(count, a, reg(in.b), r, [](double x, double y) { return x / y; }); break;
+      case Op::kNeg: Map1(count, a, r, [](double x) { return -x; }); break;
+      case Op::kPowInt: {
+        // The same products in the same order as Evaluate: identical bits.
+        const int power = in.n;
+        Map1(count, a, r, [power](double x) {
+          int n = power < 0 ? -power : power;
+          double result = 1.0, base = x;
+          while (n) {
+            if (n & 1) result *= base;
+            base *= base;
+            n >>= 1;
+          }
+          return power < 0 ? 1.0 / result : result;
+        });
+        break;
+      }
+      case Op::kPowReal: Map2(count, a, reg(in.b), r, [](double x, double y) { return std::pow(x, y); }); break;
+      case Op::kSqrt: Map1(count, a, r, [](double x) { return std::sqrt(x); }); break;
+      case Op::kRealRoot: {
+        const double p = in.value;
+        const bool odd = in.n & 1;
+        Map1(count, a, r, [p, odd](double x) {
+          const double m = std::pow(std::fabs(x), p);
+          return (x < 0 && odd) ? -m : m;
+        });
+        break;
+      }
+      case Op::kSin: Map1(count, a, r, [](double x) { return std::sin(x); }); break;
+      case Op::kCos: Map1(count, a, r, [](double x) { return std::cos(x); }); break;
+      case Op::kTan: Map1(count, a, r, [](double x) { return std::tan(x); }); break;
+      case Op::kExp: Map1(count, a, r, [](double x) { return std::exp(x); }); break;
+      case Op::kLog: Map1(count, a, r, [](double x) { return std::log(x); }); break;
+      case Op::kAsin: Map1(count, a, r, [](double x) { return std::asin(x); }); break;
+      case Op::kAcos: Map1(count, a, r, [](double x) { return std::acos(x); }); break;
+      case Op::kAtan: Map1(count, a, r, [](double x) { return std::atan(x); }); break;
+      case Op::kSinh: Map1(count, a, r, [](double x) { return std::sinh(x); }); break;
+      case Op::kCosh: Map1(count, a, r, [](double x) { return std::cosh(x); }); break;
+      case Op::kTanh: Map1(count, a, r, [](double x) { return std::tanh(x); }); break;
+      case Op::kRamp: Map1(count, a, r, [](double x) { return x > 0 ? x : 0.0; }); break;
+      case Op::kHeaviside: Map1(count, a, r, [](double x) { return x >= 0 ? 1.0 : 0.0; }); break;
+      case Op::kSign: Map1(count, a, r, [](double x) { return double((x > 0) - (x < 0)); }); break;
+    }
+  }
+  for (std::size_t k = 0; k < outputs_.size(); ++k) {
+    const double* r = reg(outputs_[k]);
+    std::copy(r, r + count, outputs + static_cast<long>(k) * output_stride);
+  }
 }
 
 std::vector<double> CompiledFunction::operator()(const std::vector<double>& inputs) const {

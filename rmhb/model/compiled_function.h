@@ -41,6 +41,13 @@ class CompiledFunction {
   void Evaluate(const double* inputs, double* outputs, std::vector<double>* work,
                 const signed char* modes) const;
   void SwitchArguments(const std::vector<double>& work, double* arguments) const;
+  // `count` points at once, instruction by instruction over all of them (the
+  // switch on the operation once per instruction, not per point; the loops
+  // vectorise): input k of point t at inputs[k * input_stride + t], output i
+  // at outputs[i * output_stride + t] (column-major matrices). Switches take
+  // their argument's side. `work` is resized to size() * count.
+  void EvaluateMany(long count, const double* inputs, long input_stride, double* outputs,
+                    long output_stride, std::vector<double>* work) const;
   // Convenience (allocates).
   std::vector<double> operator()(const std::vector<double>& inputs) const;
 

@@ -743,6 +743,11 @@ class Recaster {
       thread_local std::vector<double> work;
       tape->Evaluate(in, out, &work);
     };
+    pointwise->evaluate_many = [tape](long count, const double* in, long in_stride, double* out,
+                                      long out_stride) {
+      thread_local std::vector<double> work;
+      tape->EvaluateMany(count, in, in_stride, out, out_stride, &work);
+    };
     pointwise->text = model_.equations[i].text;
     pointwise->nonsmooth = internal::HasNonSmooth(outputs[0]);
     pointwise->half_wave_sign = HalfWaveSign(*pointwise, bases_.values);
