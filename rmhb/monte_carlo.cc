@@ -257,7 +257,7 @@ StartSolves SolveStarts(const HarmonicBalanceProblem& problem, const MonteCarloO
     for (SamplingRule rule : options.rules) {
       std::vector<int> alias_free;
       const int samples = SamplesForRule(problem.system, basis, rule, &alias_free)[0];
-      residuals.push_back(std::make_unique<CollocationResidual>(problem, basis, Sampling::Uniform(samples)));
+      residuals.push_back(std::make_unique<CollocationResidual>(problem, basis, Sampling::Uniform(samples), options.solve.condense_definitions));
     }
     std::vector<double> seconds(num_rules, 0);
     SolverOptions solver = options.solve.solver;

@@ -47,7 +47,12 @@ struct OriginalCheck {
 
 struct MonteCarloOptions {
   long starts = 10000;
-  double low = -2, high = 2;  // every coefficient uniform in [low, high]
+  // Every unknown coefficient uniform in [low, high]. With
+  // solve.condense_definitions (the default) a variable defined by a linear
+  // x' = v is no unknown, its coefficients follow from x's: the Duffing's
+  // 2N + 1 unknowns of the second-order form, as classical HB writes it (with
+  // them HDHB finds the paper's 58 distinct solutions, 55 non-physical).
+  double low = -2, high = 2;
   std::uint64_t seed = 1;
   int threads = 0;  // 0: std::thread::hardware_concurrency()
   std::vector<SamplingRule> rules = {SamplingRule::kRhb, SamplingRule::kHdhb};

@@ -95,7 +95,7 @@ CensusSummary Census(const Model& model, const CensusOptions& o, const MonteCarl
 std::string CensusSummary::FullReport() const {
   char head[512];
   std::snprintf(head, sizeof head,
-                "%ld starts, every coefficient uniform in [%g, %g], seed %llu; reference: "
+                "%ld starts, every unknown coefficient uniform in [%g, %g], seed %llu; reference: "
                 "alias-free RHB at order %d; %d threads x %d rank(s), %.3f s\n\n",
                 monte_carlo.starts, options.low, options.high, static_cast<unsigned long long>(options.seed),
                 monte_carlo.reference_order, monte_carlo.threads, ranks, monte_carlo.seconds);

@@ -1,6 +1,7 @@
 // The paper's Table 1 (rmhb/METHOD.md s.3) on the forced Duffing oscillator
 // x'' + 0.1 x' + x + x^3 = cos(2 t), where three periodic solutions coexist:
-// 10^4 random starts, every coefficient uniform in [-2, 2], solved by RHB and
+// 10^4 random starts, every unknown coefficient (x's: v = x' is condensed)
+// uniform in [-2, 2], solved by RHB and
 // HDHB at the same order, with the wall time of the whole census. The
 // "error" columns are what makes a row trustworthy: the largest relative
 // distance of a physical cluster to its alias-free reference solve, and the
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
   };
   const MonteCarloSummary summary = RunMonteCarlo(e.problem, options);
 
-  std::printf("Duffing x'' + 0.1 x' + x + x^3 = cos(2 t): %ld starts, coefficients uniform in [-2, 2], "
+  std::printf("Duffing x'' + 0.1 x' + x + x^3 = cos(2 t): %ld starts, x's coefficients uniform in [-2, 2], "
               "seed %lu, order %d, %d threads\n\n",
               starts, seed, order, summary.threads);
   std::printf("| method | M | upper %% | lower %% | unstable %% | non-physical %% | distinct (non-physical) | failed starts | max distance (physical) | max Hill-Floquet |mu| diff | solve CPU s |\n");
