@@ -13,9 +13,20 @@
 #include "rmhb/cli/commands.h"
 #include "rmhb/cli/exit_codes.h"
 #include "rmhb/model/model_error.h"
+
+#ifdef RMHB_CLI_PARALLEL
 #include "rmhb/sweep/mpi.h"
+#else
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <string>
+#endif
 
 namespace {
+
+#ifdef RMHB_CLI_PARALLEL
 
 // Sweeps and censuses run on every MPI rank (one without mpirun): an error
 // on one stops them all (a rank that only returned would leave the others
@@ -38,6 +49,23 @@ int RunOnEveryRank(const std::function<int(int rank, int ranks)>& command, int a
   if (mpi.size() > 1) rmhb::sweep::AbortAll(code);
   return code;
 }
+
+#else
+
+// sweep and montecarlo: this process becomes rmhb-parallel, from the same
+// directory, with the same arguments (and, under mpirun, the same rank).
+int ExecParallel(char** argv) {
+  std::string path(4096, '\0');
+  const ssize_t n = readlink("/proc/self/exe", path.data(), path.size() - 1);
+  path.resize(n > 0 ? static_cast<size_t>(n) : 0);
+  path = path.substr(0, path.rfind('/') + 1) + "rmhb-parallel";
+  execv(path.c_str(), argv);
+  std::fprintf(stderr, "rmhb: internal error: `%s` runs in %s, which could not be started: %s\n", argv[1],
+               path.c_str(), std::strerror(errno));
+  return rmhb::cli::kExitInternal;
+}
+
+#endif
 
 }  // namespace
 
@@ -128,9 +156,13 @@ int main(int argc, char** argv) {
     app.exit(e);
     return kExitUsage;
   }
+#ifdef RMHB_CLI_PARALLEL
   if (*sweep_cmd) return RunOnEveryRank([&](int rank, int ranks) { return RunSweep(sweep, rank, ranks); }, argc, argv);
   if (*montecarlo_cmd)
     return RunOnEveryRank([&](int rank, int ranks) { return RunMonteCarlo(montecarlo, rank, ranks); }, argc, argv);
+#else
+  if (*sweep_cmd || *montecarlo_cmd) return ExecParallel(argv);
+#endif
   try {
     if (*solve_cmd && continuation.range.empty()) CheckWithoutContinuation(continuation);
     if (*solve_cmd) return continuation.range.empty() ? RunSolve(solve) : RunContinuation(solve, continuation);

@@ -31,31 +31,6 @@ void ShowProgress(long done, long total) {
 
 }  // namespace
 
-void AddMonteCarloOptions(CLI::App* app, MonteCarloArgs* a) {
-  app->add_option("model", a->model, "Example name (see `rmhb list`) or model file; periodic only")
-      ->required();
-  app->add_option("--set", a->set, "Override a parameter: --set name=value (repeatable)");
-  app->add_option("--order,-N", a->order, "Harmonic order N of every solve (default 3)");
-  app->add_option("--starts", a->starts, "Number of random starts (default 10000)");
-  app->add_option("--range", a->range,
-                  "Every coefficient of a start is uniform in lo:hi (default -2:2)");
-  app->add_option("--seed", a->seed, "Random seed; the result depends on it only, not on --threads (default 1)");
-  app->add_option("--threads", a->threads, "Worker threads (default 0: all cores)");
-  app->add_option("--methods", a->methods, "Sampling rules to compare, from rhb, hdhb, aft (default rhb,hdhb)");
-  app->add_option("--reference-order", a->reference_order,
-                  "Order of the alias-free solve that decides physical (default max(40, 8 N))");
-  app->add_option("--match-tolerance", a->match_tolerance,
-                  "Largest relative distance to its reference solve for a solution to count as "
-                  "physical (default 0.05)");
-  app->add_option("--solver", a->solver, "newton, lm, tikhonov or auto (default: Newton, then L-M)")
-      ->check(CLI::IsMember({"auto", "newton", "lm", "tikhonov"}));
-  app->add_option("--max-iterations", a->max_iterations, "Iteration limit per start (default 100)")
-      ->check(CLI::Range(1, 100000));
-  app->add_flag("--no-floquet", a->no_floquet,
-                "Skip the Floquet multipliers of the original equations (CVODE)");
-  app->add_flag("--json", a->json, "Machine-readable output");
-}
-
 int RunMonteCarlo(const MonteCarloArgs& a, int rank, int ranks) {
   ModelSettings settings;
   settings.model = a.model;

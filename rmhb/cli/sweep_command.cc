@@ -62,33 +62,6 @@ void PlotMap(const SweepArgs& a, const ParameterGrid& grid, const std::vector<js
 
 }  // namespace
 
-void AddSweepOptions(CLI::App* app, SweepArgs* a) {
-  AddSolveSettings(app, &a->settings);
-  app->add_option("--grid", a->grid,
-                  "A parameter axis NAME=a:b:n, n values from a to b (repeatable; the first axis "
-                  "runs fastest and is the continuation direction)")
-      ->required();
-  app->add_option("--starts", a->starts, "Random starts per point, besides continuation (default 8)")
-      ->check(CLI::Range(0, 1000000));
-  app->add_option("--range", a->range, "Every coefficient of a random start is uniform in lo:hi (default -2:2)");
-  app->add_option("--seed", a->seed, "Random seed (default 1); results depend on it, not on the ranks");
-  app->add_option("--out", a->out, "The HDF5 result file (default sweep.h5); its journal is OUT.journal/");
-  app->add_flag("--resume", a->resume,
-                "Finish an interrupted sweep from OUT.journal/ without recomputing finished points");
-  app->add_flag("--keep-journal", a->keep_journal, "Keep OUT.journal/ after the file is written");
-  app->add_flag("--no-stability", a->no_stability, "Skip Hill's stability verdict per solution");
-  app->add_option("--log", a->log, "Append one line per computed point (index, rank, status, time) to FILE");
-  app->add_option("--plot", a->plot, "A heat map of the first two axes (PNG or SVG by extension)");
-  app->add_option("--plot-value", a->plot_value, "What --plot shows: amplitude (largest, default) or count")
-      ->check(CLI::IsMember({"amplitude", "count"}));
-  app->add_flag("--json", a->json, "Machine-readable summary");
-  app->footer(
-      "Over MPI: mpirun -n R rmhb sweep ... (rank 0 hands out grid lines, the others solve them).\n"
-      "Exit codes: 0 the file is written (failed points are recorded in it), 1 usage, 2 bad input\n"
-      "(unknown parameter, bad --grid, a journal of another sweep, OUT.journal/ exists without\n"
-      "--resume), 4 internal.");
-}
-
 int RunSweep(const SweepArgs& a, int rank, int ranks) {
   if (a.settings.solve.tol > 0) throw std::invalid_argument("--tol does not apply to sweep: give --order");
   std::vector<GridAxis> axes;

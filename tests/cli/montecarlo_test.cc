@@ -6,7 +6,10 @@
 
 #include "tests/cli/cli_run.h"
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace {
@@ -67,6 +70,28 @@ TEST(MonteCarloCli, BadInputIsExitTwoWithAMessage) {
   EXPECT_EQ(RunCli("montecarlo pendulum --starts 5 2>&1").code, 2);  // Hill cannot classify it
   EXPECT_EQ(RunCli("montecarlo vanderpol --starts 5 2>&1").code, 2);  // autonomous
   EXPECT_EQ(RunCli("montecarlo 2>&1").code, 1);                       // usage
+}
+
+// rmhb runs montecarlo and sweep by becoming rmhb-parallel (MPI, HDF5) from
+// its own directory; every other command runs without those libraries.
+TEST(MonteCarloCli, OnlyTheParallelBinaryLoadsMpiAndHdf5) {
+  const std::string dir = ::testing::TempDir() + "rmhb_light_" + std::to_string(::getpid());
+  ASSERT_EQ(std::system(("mkdir -p " + dir + " && cp " + RMHB_CLI + " " + dir + "/rmhb").c_str()), 0);
+  const std::string light = dir + "/rmhb";
+  // The dynamic loader's list of what the binary loads (what ldd prints).
+  const CliRun loaded = Capture("LD_TRACE_LOADED_OBJECTS=1 " + light);
+  EXPECT_EQ(loaded.out.find("libmpi"), std::string::npos) << loaded.out;
+  EXPECT_EQ(loaded.out.find("hdf5"), std::string::npos) << loaded.out;
+  EXPECT_NE(loaded.out.find("libginac"), std::string::npos) << loaded.out;
+  const CliRun parallel = Capture(std::string("LD_TRACE_LOADED_OBJECTS=1 ") + RMHB_CLI + "-parallel");
+  EXPECT_NE(parallel.out.find("libmpi"), std::string::npos) << parallel.out;
+  EXPECT_NE(parallel.out.find("hdf5"), std::string::npos) << parallel.out;
+  // Without rmhb-parallel beside it: solve works, montecarlo says what is missing.
+  EXPECT_EQ(Capture(light + " solve duffing --order 3 > /dev/null 2>&1").code, 0);
+  const CliRun missing = Capture(light + " montecarlo duffing --starts 5 2>&1");
+  EXPECT_EQ(missing.code, 4) << missing.out;
+  EXPECT_NE(missing.out.find("rmhb-parallel"), std::string::npos) << missing.out;
+  std::system(("rm -rf " + dir).c_str());
 }
 
 }  // namespace
