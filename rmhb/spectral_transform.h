@@ -57,10 +57,10 @@ class SpectralTransform {
   void Synthesize(const double* coefficients, double* samples);
   // coefficients = E* samples.
   void Project(const double* samples, double* coefficients);
-  // The same for a vector that is zero outside `coefficients` (synthesis),
-  // or wanted only at them (projection; the rest of `coefficients_out` is
-  // left as it was): a symmetry's dropped harmonics. Dense tables only
-  // skip them; FFTW transforms everything.
+  // The same for a vector that is zero outside `some` (synthesis), or
+  // wanted only at `some` (projection): a symmetry's dropped harmonics. The
+  // dense tables skip the rest (the projection leaves the other entries of
+  // `coefficients_out` as they were); FFTW transforms everything.
   void SynthesizeSome(const double* coefficients, const std::vector<int>& some, double* samples);
   void ProjectSome(const double* samples, const std::vector<int>& some, double* coefficients_out);
   // Stores the discrete spectrum of `samples` for MultiplicationMatrix.

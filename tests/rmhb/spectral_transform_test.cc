@@ -139,5 +139,50 @@ TEST(SpectralTransform, DenseAndFftwBackendsAgree) {
                std::invalid_argument);
 }
 
+// A symmetry's restricted transforms (odd harmonics kept, as the half-wave
+// symmetry keeps them) equal the full ones where they are asked, on both
+// backends: synthesis of a vector zero elsewhere, projection and the
+// multiplication matrix at the kept rows and columns.
+TEST(SpectralTransform, RestrictedToSomeHarmonicsEqualsTheFullTransforms) {
+  const HarmonicBasis basis = HarmonicBasis::Periodic(11);
+  const int C = basis.num_coefficients();
+  std::vector<char> odd(basis.size(), 0);
+  std::vector<int> some;
+  for (int k = 1; k < basis.size(); k += 2) odd[k] = 1;
+  for (int c = 0; c < C; ++c)
+    if (odd[(c + 1) / 2]) some.push_back(c);
+  for (auto backend : {SpectralTransform::Backend::kDense, SpectralTransform::Backend::kFftw}) {
+    SpectralTransform t(basis, Sampling::Uniform(48), backend);
+    const long M = t.num_samples();
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(C);
+    const Eigen::VectorXd r = Random(C, 21), p = Random(static_cast<int>(M), 22);
+    for (int c : some) x(c) = r(c);
+    Eigen::VectorXd full(M), restricted(M);
+    t.Synthesize(x.data(), full.data());
+    t.SynthesizeSome(x.data(), some, restricted.data());
+    EXPECT_LT((full - restricted).cwiseAbs().maxCoeff(), 1e-14);
+    Eigen::VectorXd y(C), z = Eigen::VectorXd::Constant(C, 7.0);
+    t.Project(p.data(), y.data());
+    t.ProjectSome(p.data(), some, z.data());
+    for (int c = 0; c < C; ++c)
+      if (odd[(c + 1) / 2]) {
+        EXPECT_NEAR(z(c), y(c), 1e-14) << c;
+      } else if (t.dense()) {
+        EXPECT_EQ(z(c), 7.0) << c;  // left as it was
+      }
+    std::vector<double> rate(basis.size());
+    for (int k = 0; k < basis.size(); ++k) rate[k] = 0.9 * k;
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(C, C), R = Eigen::MatrixXd::Constant(C, C, 5.0);
+    t.Analyze(p.data());
+    t.AddMultiplicationMatrix(1.0, rate.data(), B);
+    t.AddMultiplicationMatrix(1.0, rate.data(), R, odd.data(), odd.data());
+    for (int j = 0; j < C; ++j)
+      for (int i = 0; i < C; ++i) {
+        const bool kept = odd[(i + 1) / 2] && odd[(j + 1) / 2];
+        EXPECT_NEAR(R(i, j), kept ? 5.0 + B(i, j) : 5.0, 1e-14) << i << ", " << j;
+      }
+  }
+}
+
 }  // namespace
 }  // namespace rmhb
