@@ -751,12 +751,17 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
     for (int s : eq.slots) {
       EvaluateSamples(eq, s, work_.data());
       const int j = slots_[s].variable;
-      transform_->Analyze(work_.data());
+      const double* rates = slots_[s].derivative ? rates_.data() : nullptr;
       block_.setZero(C_, C_);
-      // Only the entries the symmetry reduction keeps (METHOD.md s.13).
-      transform_->AddMultiplicationMatrix(1.0, slots_[s].derivative ? rates_.data() : nullptr, block_,
-                                          row_harmonics_.empty() ? nullptr : row_harmonics_[i].data(),
-                                          column_harmonics_.empty() ? nullptr : column_harmonics_[j].data());
+      if ((work_.array() == work_(0)).all()) {
+        transform_->AddConstantMultiplication(work_(0), rates, block_);  // a linear term
+      } else {
+        transform_->Analyze(work_.data());
+        // Only the entries the symmetry reduction keeps (METHOD.md s.13).
+        transform_->AddMultiplicationMatrix(1.0, rates, block_,
+                                            row_harmonics_.empty() ? nullptr : row_harmonics_[i].data(),
+                                            column_harmonics_.empty() ? nullptr : column_harmonics_[j].data());
+      }
       AddVariableBlock(jacobian, eq.first_row, block_.bottomRows(rows), j, x);
       if (slots_[s].derivative == 0) continue;
       // z' = sum_b w_b d z / d theta_b: a column per unknown frequency.

@@ -375,6 +375,19 @@ void SpectralTransform::AddMultiplicationBlock(double scale, const double* rate,
   }
 }
 
+void SpectralTransform::AddConstantMultiplication(double value, const double* rate,
+                                                  Eigen::Ref<Eigen::MatrixXd> out) const {
+  if (!rate) {
+    out.diagonal().array() += value;
+    return;
+  }
+  // d/dt(a cos) = -rate a sin; d/dt(b sin) = rate b cos (AddMultiplicationBlock).
+  for (int k = 1; k < basis_.size(); ++k) {
+    out(2 * k - 1, 2 * k) += value * rate[k];
+    out(2 * k, 2 * k - 1) -= value * rate[k];
+  }
+}
+
 double SpectralTransform::Phase(const std::vector<int>& h, long sample) const {
   // Decompose the flat sample index into grid coordinates (last fastest).
   double phase = 0.0;

@@ -86,6 +86,15 @@ class SpectralTransform {
                               Eigen::Ref<Eigen::MatrixXd> out, const char* row_harmonics = nullptr,
                               const char* column_harmonics = nullptr) const;
 
+  // out += scale * E* diag(p) E (D) for a constant p = value: value times
+  // the identity (or D(rate)), since E* E = I on a grid where every harmonic
+  // owns its frequency (the constructor's check). A linear term's partial is
+  // constant: O(C) instead of the O(C^2) Toeplitz-plus-Hankel, no Analyze.
+  // Exact where AddMultiplicationMatrix carries the round-off of the
+  // analysed spectrum.
+  void AddConstantMultiplication(double value, const double* derivative_rates,
+                                 Eigen::Ref<Eigen::MatrixXd> out) const;
+
   // exp(i g.phi_s) phase of sample s for integer grid vector g, as the
   // fraction (g.s mod M)/M per angle; used to sample time functions exactly.
   double Phase(const std::vector<int>& base_harmonic, long sample) const;

@@ -184,5 +184,30 @@ TEST(SpectralTransform, RestrictedToSomeHarmonicsEqualsTheFullTransforms) {
   }
 }
 
+// A constant partial (a linear term): the identity (or D) times the value,
+// what the Toeplitz-plus-Hankel assembly gives to round-off, on a one-angle
+// and a torus grid.
+TEST(SpectralTransform, ConstantMultiplicationIsTheScaledIdentity) {
+  struct Case {
+    HarmonicBasis basis;
+    Sampling sampling;
+  };
+  for (const Case& c : {Case{HarmonicBasis::Periodic(9), Sampling::Uniform(28)},
+                        Case{HarmonicBasis::Diamond(2, 3), Sampling::Torus({12, 12})}}) {
+    SpectralTransform t(c.basis, c.sampling);
+    const int C = c.basis.num_coefficients();
+    const Eigen::VectorXd p = Eigen::VectorXd::Constant(t.num_samples(), -1.7);
+    std::vector<double> rate(c.basis.size());
+    for (int k = 0; k < c.basis.size(); ++k) rate[k] = 0.3 + 0.8 * k;
+    t.Analyze(p.data());
+    for (const double* r : {static_cast<const double*>(nullptr), static_cast<const double*>(rate.data())}) {
+      Eigen::MatrixXd full = Eigen::MatrixXd::Zero(C, C), constant = full;
+      t.AddMultiplicationMatrix(1.0, r, full);
+      t.AddConstantMultiplication(-1.7, r, constant);
+      EXPECT_LT((full - constant).cwiseAbs().maxCoeff(), 1e-13) << c.sampling.description;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rmhb
