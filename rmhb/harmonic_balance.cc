@@ -374,6 +374,28 @@ int GuessResolution(const HarmonicSolution& guess) {
 
 // `converged_below`, when given, receives the last coarse solution that
 // converged (order selection calibrates its estimate on it).
+// A coarse level is close enough to the final order when what it leaves out
+// is small: its outermost two harmonics (two: a half-wave symmetric spectrum
+// has an empty layer at every even order), relative to each variable's
+// largest coefficient, extrapolated geometrically with their ratio to the two
+// before, sum to at most this. The final order's Newton then starts within
+// about that distance and converges in two or three steps, so finer coarse
+// levels cost more than they save (the relativistic oscillator at N = 55:
+// 13 leaves ~2e-4 out, 13 -> 55 in 0.28 ms, 13 -> 27 -> 55 in 0.31 ms). A
+// slowly decaying spectrum (a relaxation oscillation) extrapolates to much
+// more and keeps every level. One base only.
+constexpr double kCoarseRemainderEnough = 1e-3;
+
+bool CloseEnough(const HarmonicSolution& coarse) {
+  if (coarse.basis().num_bases() != 1 || coarse.basis().size() < 5) return false;
+  const std::vector<double> size = HarmonicSizes(coarse);
+  const size_t K = size.size();
+  const double tail = std::max(size[K - 1], size[K - 2]), before = std::max(size[K - 3], size[K - 4]);
+  if (!(before > 0) || !(tail < before)) return false;
+  const double ratio = tail / before;  // per two harmonics
+  return tail * ratio / (1 - ratio) <= kCoarseRemainderEnough;
+}
+
 HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& problem,
                                              const HarmonicSolution& initial_guess,
                                              const HarmonicBalanceOptions& options,
@@ -403,6 +425,8 @@ HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& probl
       // Converged (step below 1e-10: Newton's next error ~1e-20): the coarse
       // order's own solution, however large its truncation.
       if (converged_below && s.converged() && s.solution) *converged_below = s.solution;
+      // A caller that asked for the finest converged level gets every level.
+      if (!converged_below && s.converged() && s.solution && CloseEnough(*s.solution)) break;
     }
   }
   return SolveAtOrder(problem, guess, options);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <map>
 #include <stdexcept>
 #include <vector>
 
@@ -128,8 +129,30 @@ HarmonicSolution HarmonicSolution::OnBasis(const HarmonicBasis& basis) const {
     throw std::invalid_argument("HarmonicSolution::OnBasis: different number of bases");
   Eigen::MatrixXd c = Eigen::MatrixXd::Zero(num_variables(), basis.num_coefficients());
   c.col(0) = coefficients_.col(0);
+  // Where each harmonic sits in this basis, looked up once: one base by
+  // |k|, several through a map (HarmonicBasis::Find per harmonic is O(K)).
+  std::vector<int> by_order;
+  std::map<std::vector<int>, int> by_vector;
+  if (basis_.num_bases() == 1) {
+    by_order.assign(basis_.Reach(0) + 1, -1);
+    for (int k = 0; k < basis_.size(); ++k) by_order[std::abs(basis_.harmonic(k)[0])] = k;
+  } else {
+    for (int k = 0; k < basis_.size(); ++k) by_vector.emplace(basis_.harmonic(k), k);
+  }
+  auto find = [&](const std::vector<int>& h) {
+    if (basis_.num_bases() == 1) {
+      const int order = std::abs(h[0]);
+      return order < static_cast<int>(by_order.size()) ? by_order[order] : -1;
+    }
+    auto it = by_vector.find(h);
+    if (it != by_vector.end()) return it->second;
+    std::vector<int> neg(h);
+    for (int& v : neg) v = -v;
+    it = by_vector.find(neg);
+    return it != by_vector.end() ? it->second : -1;
+  };
   for (int k = 1; k < basis.size(); ++k) {
-    const int from = basis_.Find(basis.harmonic(k));
+    const int from = find(basis.harmonic(k));
     if (from <= 0) continue;
     // Stored with the other sign: cos is even, sin odd.
     const double sign = basis_.harmonic(from) == basis.harmonic(k) ? 1.0 : -1.0;
