@@ -50,7 +50,7 @@ void CheckArguments(int num_bases, int order) {
 HarmonicBasis HarmonicBasis::Periodic(int order) {
   CheckArguments(1, order);
   HarmonicBasis b(1, order, "periodic");
-  for (int k = 0; k <= order; ++k) b.harmonics_.push_back({k});
+  for (int k = 0; k <= order; ++k) b.harmonics_->push_back({k});
   return b;
 }
 
@@ -58,13 +58,13 @@ HarmonicBasis HarmonicBasis::Diamond(int num_bases, int order) {
   if (num_bases == 1) return Periodic(order);
   CheckArguments(num_bases, order);
   HarmonicBasis b(num_bases, order, "diamond");
-  b.harmonics_.push_back(std::vector<int>(num_bases, 0));
+  b.harmonics_->push_back(std::vector<int>(num_bases, 0));
   for (auto& k : Enumerate(num_bases, order, [order](const std::vector<int>& v) {
          int s = 0;
          for (int x : v) s += std::abs(x);
          return s <= order;
        }))
-    b.harmonics_.push_back(k);
+    b.harmonics_->push_back(k);
   return b;
 }
 
@@ -72,9 +72,9 @@ HarmonicBasis HarmonicBasis::Box(int num_bases, int order) {
   if (num_bases == 1) return Periodic(order);
   CheckArguments(num_bases, order);
   HarmonicBasis b(num_bases, order, "box");
-  b.harmonics_.push_back(std::vector<int>(num_bases, 0));
+  b.harmonics_->push_back(std::vector<int>(num_bases, 0));
   for (auto& k : Enumerate(num_bases, order, [](const std::vector<int>&) { return true; }))
-    b.harmonics_.push_back(k);
+    b.harmonics_->push_back(k);
   return b;
 }
 
@@ -84,13 +84,13 @@ HarmonicBasis HarmonicBasis::WeightedDiamond(const std::vector<int>& weights, in
   for (int w : weights)
     if (w < 1) throw std::invalid_argument("HarmonicBasis: diamond weights must be >= 1");
   HarmonicBasis b(d, order, "weighted diamond");
-  b.harmonics_.push_back(std::vector<int>(d, 0));
+  b.harmonics_->push_back(std::vector<int>(d, 0));
   for (auto& k : Enumerate(d, order, [&](const std::vector<int>& v) {
          long s = 0;
          for (int i = 0; i < d; ++i) s += long(weights[i]) * std::abs(v[i]);
          return s <= order;
        }))
-    b.harmonics_.push_back(k);
+    b.harmonics_->push_back(k);
   return b;
 }
 
@@ -98,7 +98,7 @@ HarmonicBasis HarmonicBasis::FromHarmonics(int num_bases, std::vector<std::vecto
                                           int order, std::string shape) {
   CheckArguments(num_bases, std::max(order, 1));
   HarmonicBasis b(num_bases, order, std::move(shape));
-  b.harmonics_.push_back(std::vector<int>(num_bases, 0));
+  b.harmonics_->push_back(std::vector<int>(num_bases, 0));
   std::vector<std::vector<int>> kept;
   for (auto& k : harmonics) {
     if (static_cast<int>(k.size()) != num_bases)
@@ -119,13 +119,13 @@ HarmonicBasis HarmonicBasis::FromHarmonics(int num_bases, std::vector<std::vecto
     return l1(a) != l1(c) ? l1(a) < l1(c) : a < c;
   });
   kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
-  for (auto& k : kept) b.harmonics_.push_back(std::move(k));
+  for (auto& k : kept) b.harmonics_->push_back(std::move(k));
   return b;
 }
 
 int HarmonicBasis::Reach(int base) const {
   int r = 0;
-  for (const auto& k : harmonics_) r = std::max(r, std::abs(k[base]));
+  for (const auto& k : *harmonics_) r = std::max(r, std::abs(k[base]));
   return r;
 }
 
@@ -133,13 +133,13 @@ int HarmonicBasis::Find(const std::vector<int>& k) const {
   std::vector<int> neg(k);
   for (int& v : neg) v = -v;
   for (int i = 0; i < size(); ++i)
-    if (harmonics_[i] == k || harmonics_[i] == neg) return i;
+    if ((*harmonics_)[i] == k || (*harmonics_)[i] == neg) return i;
   return -1;
 }
 
 double HarmonicBasis::Frequency(int k, const std::vector<double>& w) const {
   double f = 0;
-  for (int i = 0; i < num_bases_; ++i) f += harmonics_[k][i] * w[i];
+  for (int i = 0; i < num_bases_; ++i) f += (*harmonics_)[k][i] * w[i];
   return f;
 }
 

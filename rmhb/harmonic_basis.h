@@ -8,6 +8,7 @@
 //   [a_0, a_1, b_1, ..., a_{K-1}, b_{K-1}]
 // with harmonic 0 first: 2K - 1 numbers.
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,12 +38,12 @@ class HarmonicBasis {
                                      int order, std::string shape);
 
   int num_bases() const { return num_bases_; }
-  int size() const { return static_cast<int>(harmonics_.size()); }  // K, with k = 0
+  int size() const { return static_cast<int>(harmonics_->size()); }  // K, with k = 0
   int num_coefficients() const { return 2 * size() - 1; }
   int order() const { return order_; }
   const std::string& shape() const { return shape_; }
-  const std::vector<int>& harmonic(int k) const { return harmonics_[k]; }
-  const std::vector<std::vector<int>>& harmonics() const { return harmonics_; }
+  const std::vector<int>& harmonic(int k) const { return (*harmonics_)[k]; }
+  const std::vector<std::vector<int>>& harmonics() const { return *harmonics_; }
   // Largest |k_base| in the set: what the alias bound needs per base.
   int Reach(int base) const;
   // Index of a harmonic in the set (either sign), or -1.
@@ -57,7 +58,11 @@ class HarmonicBasis {
   int num_bases_;
   int order_;
   std::string shape_;
-  std::vector<std::vector<int>> harmonics_;
+  // Filled by the factories, never changed after: copies share it (a solve
+  // copies its basis into every residual, transform and solution; one
+  // allocation per harmonic per copy was most of a small solve's malloc).
+  std::shared_ptr<std::vector<std::vector<int>>> harmonics_ =
+      std::make_shared<std::vector<std::vector<int>>>();
 };
 
 }  // namespace rmhb
