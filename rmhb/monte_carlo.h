@@ -51,7 +51,8 @@ struct MonteCarloOptions {
   // solve.condense_definitions (the default) a variable defined by a linear
   // x' = v is no unknown, its coefficients follow from x's: the Duffing's
   // 2N + 1 unknowns of the second-order form, as classical HB writes it (with
-  // them HDHB finds the paper's 58 distinct solutions, 55 non-physical).
+  // them HDHB finds 58-59 distinct solutions, 55-56 non-physical; the paper
+  // 58 and 55).
   double low = -2, high = 2;
   std::uint64_t seed = 1;
   int threads = 0;  // 0: std::thread::hardware_concurrency()
