@@ -372,8 +372,6 @@ int GuessResolution(const HarmonicSolution& guess) {
   return std::min(level, guess.basis().order());
 }
 
-// `converged_below`, when given, receives the last coarse solution that
-// converged (order selection calibrates its estimate on it).
 // A coarse level is close enough to the final order when what it leaves out
 // is small: its outermost two harmonics (two: a half-wave symmetric spectrum
 // has an empty layer at every even order), relative to each variable's
@@ -396,6 +394,8 @@ bool CloseEnough(const HarmonicSolution& coarse) {
   return tail * ratio / (1 - ratio) <= kCoarseRemainderEnough;
 }
 
+// `converged_below`, when given, receives the last coarse solution that
+// converged (order selection calibrates its estimate on it).
 HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& problem,
                                              const HarmonicSolution& initial_guess,
                                              const HarmonicBalanceOptions& options,
