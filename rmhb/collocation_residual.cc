@@ -619,6 +619,14 @@ bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* re
   return ok;
 }
 
+void CollocationResidual::SynthesizeVariable(int j, const double* coefficients, double* samples) {
+  // The coefficients come through Layout: zero where a symmetry drops one.
+  if (column_coefficients_.empty())
+    transform_->Synthesize(coefficients, samples);
+  else
+    transform_->SynthesizeSome(coefficients, column_coefficients_[j], samples);
+}
+
 void CollocationResidual::SampleSlots(const Eigen::VectorXd& x) {
   std::vector<double> w;
   Frequencies(x, &w);
@@ -635,11 +643,7 @@ void CollocationResidual::SampleSlots(const Eigen::VectorXd& x) {
       }
       coefficients = coef_.data();
     }
-    // x comes through Layout: zero where a symmetry drops a coefficient.
-    if (column_coefficients_.empty())
-      transform_->Synthesize(coefficients, slot_samples_[s].data());
-    else
-      transform_->SynthesizeSome(coefficients, column_coefficients_[j], slot_samples_[s].data());
+    SynthesizeVariable(j, coefficients, slot_samples_[s].data());
   }
   if (!pointwise_values_.empty()) EvaluatePointwise(w);
 }
@@ -774,10 +778,7 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
           coef_(2 * k - 1) = rate * X[2 * k];
           coef_(2 * k) = -rate * X[2 * k - 1];
         }
-        if (column_coefficients_.empty())
-          transform_->Synthesize(coef_.data(), term_.data());
-        else
-          transform_->SynthesizeSome(coef_.data(), column_coefficients_[j], term_.data());
+        SynthesizeVariable(j, coef_.data(), term_.data());
         term_.array() *= work_.array();
         project(term_.data());
         jacobian->col(FrequencyColumn(b)).segment(eq.first_row, rows) += proj_.tail(rows);

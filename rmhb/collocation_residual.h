@@ -158,6 +158,9 @@ class CollocationResidual : public NonlinearProblem {
   // The solver's vector in the layout EvaluateFull reads (symmetries
   // undone, condensed variables computed).
   const Eigen::VectorXd& Layout(const Eigen::VectorXd& x);
+  // samples = E coefficients for variable j's coefficients (or values derived
+  // from them), only the kept ones under a symmetry.
+  void SynthesizeVariable(int j, const double* coefficients, double* samples);
   // Samples of every slot, z_j = E X_j and z_j' = E D(w) X_j, for full x.
   void SampleSlots(const Eigen::VectorXd& x);
   // p = sum over terms of d(term)/d(slot), or the whole equation if slot < 0.

@@ -173,8 +173,7 @@ DenseQr& DenseQr::compute(Eigen::MatrixXd&& A) {
 }
 
 Eigen::VectorXd DenseQr::solve(const Eigen::VectorXd& b) const {
-  const Eigen::MatrixXd& qr = qr_;
-  const int m = static_cast<int>(qr.rows()), n = static_cast<int>(qr.cols());
+  const int m = static_cast<int>(qr_.rows()), n = static_cast<int>(qr_.cols());
   if (b.size() != m)
     throw std::invalid_argument("DenseQr::solve: right-hand side of size " +
                                 std::to_string(b.size()) + " for a matrix of " + std::to_string(m) +
@@ -186,14 +185,14 @@ Eigen::VectorXd DenseQr::solve(const Eigen::VectorXd& b) const {
     // the diagonal of column i]), then R x = (Q' b)(0:n), as dorm2r/dtrtrs.
     for (int i = 0; i < n; ++i) {
       const int below = m - i - 1;
-      const double dot = c(i) + qr.col(i).tail(below).dot(c.tail(below));
+      const double dot = c(i) + qr_.col(i).tail(below).dot(c.tail(below));
       const double scale = tau_[i] * dot;
       c(i) -= scale;
-      c.tail(below) -= scale * qr.col(i).tail(below);
+      c.tail(below) -= scale * qr_.col(i).tail(below);
     }
-    if ((qr.diagonal().array() == 0).any()) return NotANumber(n);
+    if ((qr_.diagonal().array() == 0).any()) return NotANumber(n);
     Eigen::VectorXd x = c.head(n);
-    qr.topLeftCorner(n, n).triangularView<Eigen::Upper>().solveInPlace(x);
+    qr_.topLeftCorner(n, n).triangularView<Eigen::Upper>().solveInPlace(x);
     return x;
   }
   PinThreads(n);

@@ -4,6 +4,40 @@
 #include <cmath>
 
 namespace rmhb::model {
+namespace {
+
+// The operations with a body, shared by Evaluate and EvaluateMany so that
+// both give the same bits by construction.
+double PowInt(double x, int power) {
+  int n = power < 0 ? -power : power;
+  double result = 1.0, base = x;
+  while (n) {
+    if (n & 1) result *= base;
+    base *= base;
+    n >>= 1;
+  }
+  return power < 0 ? 1.0 / result : result;
+}
+
+// x^(p/q) with q odd, real for negative x: sign(x)^p |x|^(p/q).
+double RealRoot(double x, double power, bool odd_numerator) {
+  const double m = std::pow(std::fabs(x), power);
+  return (x < 0 && odd_numerator) ? -m : m;
+}
+
+double Sign(double x) { return double((x > 0) - (x < 0)); }
+
+template <typename F>
+void Map1(long count, const double* a, double* r, F f) {
+  for (long t = 0; t < count; ++t) r[t] = f(a[t]);
+}
+
+template <typename F>
+void Map2(long count, const double* a, const double* b, double* r, F f) {
+  for (long t = 0; t < count; ++t) r[t] = f(a[t], b[t]);
+}
+
+}  // namespace
 
 void CompiledFunction::Evaluate(const double* inputs, double* outputs,
                                 std::vector<double>* work) const {
@@ -29,27 +63,10 @@ void CompiledFunction::Evaluate(const double* inputs, double* outputs, std::vect
       case Op::kMul: r[i] = r[in.a] * r[in.b]; break;
       case Op::kDiv: r[i] = r[in.a] / r[in.b]; break;
       case Op::kNeg: r[i] = -r[in.a]; break;
-      case Op::kPowInt: {
-        const double x = r[in.a];
-        int n = in.n < 0 ? -in.n : in.n;
-        double result = 1.0, base = x;
-        while (n) {
-          if (n & 1) result *= base;
-          base *= base;
-          n >>= 1;
-        }
-        r[i] = in.n < 0 ? 1.0 / result : result;
-        break;
-      }
+      case Op::kPowInt: r[i] = PowInt(r[in.a], in.n); break;
       case Op::kPowReal: r[i] = std::pow(r[in.a], r[in.b]); break;
       case Op::kSqrt: r[i] = std::sqrt(r[in.a]); break;
-      case Op::kRealRoot: {
-        // x^(p/q) with q odd, real for negative x: sign(x)^p |x|^(p/q).
-        const double x = r[in.a];
-        const double m = std::pow(std::fabs(x), in.value);
-        r[i] = (x < 0 && (in.n & 1)) ? -m : m;
-        break;
-      }
+      case Op::kRealRoot: r[i] = RealRoot(r[in.a], in.value, in.n & 1); break;
       case Op::kSin: r[i] = std::sin(r[in.a]); break;
       case Op::kCos: r[i] = std::cos(r[in.a]); break;
       case Op::kTan: r[i] = std::tan(r[in.a]); break;
@@ -67,29 +84,12 @@ void CompiledFunction::Evaluate(const double* inputs, double* outputs, std::vect
         break;
       }
       case Op::kHeaviside: r[i] = (modes ? modes[in.n] > 0 : r[in.a] >= 0) ? 1.0 : 0.0; break;
-      case Op::kSign: {
-        const double x = r[in.a];
-        r[i] = modes ? double(modes[in.n]) : double((x > 0) - (x < 0));
-        break;
-      }
+      case Op::kSign: r[i] = modes ? double(modes[in.n]) : Sign(r[in.a]); break;
     }
   }
   for (std::size_t k = 0; k < outputs_.size(); ++k) outputs[k] = r[outputs_[k]];
 }
 
-namespace {
-
-template <typename F>
-void Map1(long count, const double* a, double* r, F f) {
-  for (long t = 0; t < count; ++t) r[t] = f(a[t]);
-}
-
-template <typename F>
-void Map2(long count, const double* a, const double* b, double* r, F f) {
-  for (long t = 0; t < count; ++t) r[t] = f(a[t], b[t]);
-}
-
-}  // namespace
 
 void CompiledFunction::EvaluateMany(long count, const double* inputs, long input_stride,
                                     double* outputs, long output_stride,
@@ -112,18 +112,8 @@ void CompiledFunction::EvaluateMany(long count, const double* inputs, long input
       case Op::kDiv: Map2(count, a, reg(in.b), r, [](double x, double y) { return x / y; }); break;
       case Op::kNeg: Map1(count, a, r, [](double x) { return -x; }); break;
       case Op::kPowInt: {
-        // The same products in the same order as Evaluate: identical bits.
         const int power = in.n;
-        Map1(count, a, r, [power](double x) {
-          int n = power < 0 ? -power : power;
-          double result = 1.0, base = x;
-          while (n) {
-            if (n & 1) result *= base;
-            base *= base;
-            n >>= 1;
-          }
-          return power < 0 ? 1.0 / result : result;
-        });
+        Map1(count, a, r, [power](double x) { return PowInt(x, power); });
         break;
       }
       case Op::kPowReal: Map2(count, a, reg(in.b), r, [](double x, double y) { return std::pow(x, y); }); break;
@@ -131,10 +121,7 @@ void CompiledFunction::EvaluateMany(long count, const double* inputs, long input
       case Op::kRealRoot: {
         const double p = in.value;
         const bool odd = in.n & 1;
-        Map1(count, a, r, [p, odd](double x) {
-          const double m = std::pow(std::fabs(x), p);
-          return (x < 0 && odd) ? -m : m;
-        });
+        Map1(count, a, r, [p, odd](double x) { return RealRoot(x, p, odd); });
         break;
       }
       case Op::kSin: Map1(count, a, r, [](double x) { return std::sin(x); }); break;
@@ -150,7 +137,7 @@ void CompiledFunction::EvaluateMany(long count, const double* inputs, long input
       case Op::kTanh: Map1(count, a, r, [](double x) { return std::tanh(x); }); break;
       case Op::kRamp: Map1(count, a, r, [](double x) { return x > 0 ? x : 0.0; }); break;
       case Op::kHeaviside: Map1(count, a, r, [](double x) { return x >= 0 ? 1.0 : 0.0; }); break;
-      case Op::kSign: Map1(count, a, r, [](double x) { return double((x > 0) - (x < 0)); }); break;
+      case Op::kSign: Map1(count, a, r, Sign); break;
     }
   }
   for (std::size_t k = 0; k < outputs_.size(); ++k) {
