@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <complex>
 #include <cstddef>
 #include <limits>
 #include <stdexcept>
@@ -26,6 +27,10 @@ void dorm2r_(const char* side, const char* trans, const int* m, const int* n, co
 void dtrtrs_(const char* uplo, const char* trans, const char* diag, const int* n, const int* nrhs,
              const double* a, const int* lda, double* b, const int* ldb, int* info,
              std::size_t uplo_len, std::size_t trans_len, std::size_t diag_len);
+void dggev_(const char* jobvl, const char* jobvr, const int* n, double* a, const int* lda, double* b,
+            const int* ldb, double* alphar, double* alphai, double* beta, double* vl, const int* ldvl,
+            double* vr, const int* ldvr, double* work, const int* lwork, int* info, std::size_t jobvl_len,
+            std::size_t jobvr_len);
 int openblas_get_num_threads(void);
 void openblas_set_num_threads(int threads);
 }
@@ -209,6 +214,41 @@ Eigen::VectorXd DenseQr::solve(const Eigen::VectorXd& b) const {
   if (info < 0) throw std::logic_error("dtrtrs: argument " + std::to_string(-info) + " invalid");
   if (info > 0) return NotANumber(n);
   return c.head(n);
+}
+
+GeneralizedEigen SolveGeneralizedEigen(Eigen::MatrixXd A, Eigen::MatrixXd B) {
+  if (A.rows() != A.cols() || B.rows() != A.rows() || B.cols() != A.cols())
+    throw std::invalid_argument("generalised eigenproblem: A and B must be square and of one size");
+  const int n = Dimension(A.rows(), "generalised eigenproblem");
+  // QZ's sweeps are level-1/2 rotations: threads cost more than they gain.
+  PinThreads(0);
+  std::vector<double> alphar(n), alphai(n), beta(n);
+  Eigen::MatrixXd right(n, n);
+  int info = 0, lwork = -1, one = 1;
+  double query = 0, unused = 0;
+  dggev_("N", "V", &n, A.data(), &n, B.data(), &n, alphar.data(), alphai.data(), beta.data(), &unused, &one,
+         right.data(), &n, &query, &lwork, &info, 1, 1);
+  lwork = std::max(8 * n + 16, static_cast<int>(query));
+  std::vector<double> work(lwork);
+  dggev_("N", "V", &n, A.data(), &n, B.data(), &n, alphar.data(), alphai.data(), beta.data(), &unused, &one,
+         right.data(), &n, work.data(), &lwork, &info, 1, 1);
+  if (info != 0)
+    throw std::runtime_error("generalised eigenproblem of size " + std::to_string(n) +
+                             ": LAPACK's QZ (dggev) failed, info = " + std::to_string(info));
+  GeneralizedEigen result{Eigen::VectorXcd(n), Eigen::VectorXd(n), Eigen::MatrixXcd(n, n)};
+  const std::complex<double> i(0, 1);
+  for (int j = 0; j < n; ++j) {
+    result.alphas(j) = {alphar[j], alphai[j]};
+    result.betas(j) = beta[j];
+    // A complex pair is stored as (Re, Im) in columns j and j + 1 (dggev).
+    if (alphai[j] > 0 && j + 1 < n) {
+      result.vectors.col(j) = right.col(j) + i * right.col(j + 1);
+      result.vectors.col(j + 1) = right.col(j) - i * right.col(j + 1);
+    } else if (!(alphai[j] < 0 && j > 0 && alphai[j - 1] > 0)) {
+      result.vectors.col(j) = right.col(j).cast<std::complex<double>>();
+    }
+  }
+  return result;
 }
 
 }  // namespace rmhb

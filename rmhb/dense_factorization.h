@@ -89,6 +89,19 @@ class DenseLu {
   bool singular_ = true;
 };
 
+// The generalised eigenproblem A v = lambda B v by LAPACK's QZ (dggev):
+// lambda = alphas / betas, beta = 0 for an infinite eigenvalue (B singular),
+// the right eigenvectors in the columns of `vectors`. Eigen's RealQZ stops
+// without converging on Hill matrices whose B has many zero rows (a recast's
+// algebraic auxiliaries, order >= 20: 40+ infinite eigenvalues); dggev
+// deflates them. Throws std::runtime_error when QZ fails (info > 0).
+struct GeneralizedEigen {
+  Eigen::VectorXcd alphas;
+  Eigen::VectorXd betas;
+  Eigen::MatrixXcd vectors;
+};
+GeneralizedEigen SolveGeneralizedEigen(Eigen::MatrixXd A, Eigen::MatrixXd B);
+
 // A = Q R of a matrix with at least as many rows as columns.
 class DenseQr {
  public:

@@ -136,6 +136,31 @@ TEST(CliRobust, StabilitySaysWhereHillDoesNotApply) {
   EXPECT_NE(r.out.find("stability    CVODE    stable"), std::string::npos) << r.out;
 }
 
+// A conservative oscillator of a user's own (not bundled), recast with an
+// algebraic auxiliary s = sqrt(1 + x^2): Hill's B has a zero row per
+// harmonic of s, and Eigen's QZ used to stop without converging from order
+// 20 on ("internal error", exit 4). LAPACK's QZ deflates those infinite
+// eigenvalues: Hill and the CVODE monodromy both find the orbit neutral.
+TEST(CliRobust, HillOnARecastWithAnAlgebraicAuxiliary) {
+  const std::string model = ::testing::TempDir() + "/robust_hardening.yaml";
+  std::ofstream(model) << "name: hardening\nvariables: [x]\n"
+                          "equations:\n  - \"x'' + x*(1 + x^2)^(3/2) = 0\"\n"
+                          "frequencies: [{guess: 1}]\nconditions: [\"x(0) = 1.2\", \"x'(0) = 0\"]\n"
+                          "initial_state: {x: 1.2, \"x'\": 0}\n";
+  for (const char* order : {"20", "30"}) {
+    const CliRun r = Cli("solve " + model + " --order " + order + " --stability --json");
+    ASSERT_EQ(r.code, 0) << order << "\n" << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    const auto& s = j["stability"];
+    EXPECT_EQ(s["verdict"], "neutral") << order;
+    EXPECT_EQ(s["hill"]["verdict"], "neutral") << order;
+    for (const auto& mu : s["hill"]["multipliers"])
+      EXPECT_NEAR(std::abs(std::complex<double>(mu[0], mu[1])), 1, 1e-6) << order;
+    EXPECT_TRUE(s["agree"].get<bool>()) << order;
+  }
+  std::remove(model.c_str());
+}
+
 // rmhb/METHOD.md s.5: with the paper's scheme 2 (auxiliaries pinned, amplitude
 // condition) the pendulum's Jacobian is singular to round-off and Newton
 // fails; Levenberg-Marquardt and Tikhonov reach the exact frequency

@@ -1,8 +1,11 @@
 #include "rmhb/dense_factorization.h"
 
 #include <cmath>
+#include <complex>
+#include <cstdlib>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 namespace rmhb {
@@ -148,6 +151,54 @@ TEST(DenseQr, RankDeficientGivesNaNAndMisuseThrows) {
   EXPECT_FALSE(qr.solve(Eigen::VectorXd::Ones(12)).allFinite());
   EXPECT_THROW(qr.compute(Eigen::MatrixXd::Ones(3, 4)), std::invalid_argument);
   EXPECT_THROW(qr.solve(Eigen::VectorXd::Ones(3)), std::invalid_argument);
+}
+
+// B singular (three zero rows and columns, as a recast's algebraic
+// auxiliaries make Hill's B): three infinite eigenvalues (beta = 0) and three
+// finite ones, which must be the eigenvalues of the Schur complement
+// B11^-1 (A11 - A12 A22^-1 A21), computed independently by Eigen; every
+// finite pair (complex ones included) satisfies A v = lambda B v.
+TEST(GeneralizedEigen, SingularBGivesTheSchurComplementsEigenvalues) {
+  std::srand(7);
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Random(6, 6) + 3 * Eigen::MatrixXd::Identity(6, 6);
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(6, 6);
+  B.topLeftCorner(3, 3) << 1, 0.5, 0, 0, 2, 0, 0.3, 0, 3;
+  const GeneralizedEigen qz = SolveGeneralizedEigen(A, B);
+  const Eigen::MatrixXd reduced =
+      B.topLeftCorner(3, 3).inverse() * (A.topLeftCorner(3, 3) - A.topRightCorner(3, 3) *
+                                                                      A.bottomRightCorner(3, 3).inverse() *
+                                                                      A.bottomLeftCorner(3, 3));
+  const Eigen::VectorXcd expected = Eigen::EigenSolver<Eigen::MatrixXd>(reduced, false).eigenvalues();
+  int finite = 0;
+  for (int j = 0; j < 6; ++j) {
+    if (std::abs(qz.betas(j)) < 1e-12 * std::abs(qz.alphas(j))) continue;
+    ++finite;
+    const std::complex<double> lambda = qz.alphas(j) / qz.betas(j);
+    double nearest = HUGE_VAL;
+    for (int k = 0; k < 3; ++k) nearest = std::min(nearest, std::abs(lambda - expected(k)));
+    EXPECT_LT(nearest, 1e-12 * (1 + std::abs(lambda))) << lambda;
+    const Eigen::VectorXcd v = qz.vectors.col(j);
+    const Eigen::VectorXcd r = A.cast<std::complex<double>>() * v - lambda * (B.cast<std::complex<double>>() * v);
+    EXPECT_LT(r.norm(), 1e-12 * (1 + std::abs(lambda)) * v.norm()) << lambda;
+  }
+  EXPECT_EQ(finite, 3);
+  EXPECT_THROW(SolveGeneralizedEigen(A, Eigen::MatrixXd::Zero(5, 5)), std::invalid_argument);
+}
+
+// A rotation block gives a complex pair: the two vectors are conjugate and
+// each satisfies its own eigenvalue.
+TEST(GeneralizedEigen, ComplexPairHasConjugateVectors) {
+  Eigen::MatrixXd A(3, 3);
+  A << 0, -2, 0, 2, 0, 0, 0, 0, 5;
+  const GeneralizedEigen qz = SolveGeneralizedEigen(A, Eigen::MatrixXd::Identity(3, 3));
+  int pairs = 0;
+  for (int j = 0; j < 3; ++j) {
+    const std::complex<double> lambda = qz.alphas(j) / qz.betas(j);
+    const Eigen::VectorXcd v = qz.vectors.col(j);
+    EXPECT_LT((A.cast<std::complex<double>>() * v - lambda * v).norm(), 1e-14 * v.norm()) << lambda;
+    if (std::abs(std::abs(lambda.imag()) - 2) < 1e-14) ++pairs;
+  }
+  EXPECT_EQ(pairs, 2);
 }
 
 }  // namespace
