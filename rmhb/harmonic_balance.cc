@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -118,6 +119,37 @@ bool AliasCheck(const HarmonicBalanceProblem& problem, const HarmonicBalanceOpti
   return false;
 }
 
+// An autonomous orbit of frequency w written on the base w/g (every harmonic
+// off the multiples of g zero) solves the equations as well as on w: a
+// converged solve can land there (the pendulum from a guess of zero harmonics
+// finds w/3), and its "frequency" is then g times too small. The support's
+// gcd says so; harmonics below kSupportFloor of the largest do not count.
+constexpr double kSupportFloor = 1e-9;
+
+bool CheckFundamental(const HarmonicBalanceProblem& problem, HarmonicBalanceSummary* summary) {
+  const HarmonicSolution& s = *summary->solution;
+  if (s.frequencies().size() != 1 || problem.num_unknown_frequencies() != 1) return true;
+  const Eigen::MatrixXd& c = s.coefficients();
+  const HarmonicBasis& basis = s.basis();
+  Eigen::VectorXd size(basis.size());
+  size(0) = 0;
+  for (int k = 1; k < basis.size(); ++k)
+    size(k) = std::max(c.col(2 * k - 1).cwiseAbs().maxCoeff(), c.col(2 * k).cwiseAbs().maxCoeff());
+  int g = 0;
+  for (int k = 1; k < basis.size(); ++k)
+    if (size(k) > kSupportFloor * size.maxCoeff()) g = std::gcd(g, std::abs(basis.harmonic(k)[0]));
+  if (g <= 1) return true;
+  std::ostringstream why;
+  why.precision(15);
+  why << "every harmonic off the multiples of " << g << " is below " << kSupportFloor
+      << " of the largest: the orbit repeats " << g << " times per period, its frequency is " << g
+      << " w = " << g * s.frequencies()[0] << ", not the w = " << s.frequencies()[0] << " it converged to";
+  summary->physical = false;
+  summary->non_physical = why.str();
+  summary->repeats = g;
+  return false;
+}
+
 // Sets summary->physical: a converged solution whose unknown frequency
 // collapsed (Newton on a singular system may slide to w = 0, a constant) or
 // whose auxiliaries are not their definitions is no oscillation of the model.
@@ -155,6 +187,7 @@ void CheckPhysical(const HarmonicBalanceProblem& problem, const HarmonicBalanceO
       return;
     }
   }
+  if (!CheckFundamental(problem, summary)) return;
   if (problem.system.HasPointwise() && !AliasCheck(problem, options, summary)) return;
   // Without auxiliaries every variable is a state: nothing to compare.
   const std::vector<Variable>& variables = problem.system.variables();

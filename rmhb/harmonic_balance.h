@@ -157,6 +157,10 @@ struct HarmonicBalanceSummary {
   // auxiliary). The definition check, when the problem has definitions.
   bool physical = true;
   std::string non_physical;
+  // > 1: the solution repeats that many times per period (non-physical: its
+  // one unknown frequency is a sub-multiple of the orbit's;
+  // HarmonicSolution::OnMultipleFrequency restates it).
+  int repeats = 1;
   std::optional<DefinitionCheck> definition_check;
   // Pointwise (original) equations only: max|F| on a grid twice as fine,
   // relative to max(1, max|coefficient|), and that grid (-1, empty: not run).

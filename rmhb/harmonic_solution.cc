@@ -181,4 +181,19 @@ HarmonicSolution HarmonicSolution::WithFrequencies(std::vector<double> frequenci
   return HarmonicSolution(basis_, std::move(frequencies), coefficients_, variables_);
 }
 
+HarmonicSolution HarmonicSolution::OnMultipleFrequency(int g) const {
+  if (basis_.num_bases() != 1 || g < 1)
+    throw std::invalid_argument("OnMultipleFrequency: one base and g >= 1 only");
+  const HarmonicBasis basis = HarmonicBasis::Periodic(std::max(1, basis_.order() / g));
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(num_variables(), basis.num_coefficients());
+  c.col(0) = coefficients_.col(0);
+  for (int k = 1; k < basis.size(); ++k) {
+    const int from = basis_.Find({g * basis.harmonic(k)[0]});
+    if (from < 1) continue;
+    c.col(2 * k - 1) = coefficients_.col(2 * from - 1);
+    c.col(2 * k) = coefficients_.col(2 * from);
+  }
+  return HarmonicSolution(basis, {g * frequencies_[0]}, std::move(c), variables_);
+}
+
 }  // namespace rmhb

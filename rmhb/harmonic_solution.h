@@ -43,6 +43,10 @@ class HarmonicSolution {
   // this one are zero, missing ones are dropped (warm starts across orders).
   HarmonicSolution OnBasis(const HarmonicBasis& basis) const;
   HarmonicSolution WithFrequencies(std::vector<double> frequencies) const;
+  // One base: the same orbit on the base g w, for a solution that repeats g
+  // times per period (only the multiples of g carry it): harmonic j takes
+  // harmonic g j's coefficients, on the periodic basis of order order() / g.
+  HarmonicSolution OnMultipleFrequency(int g) const;
   // The same torus with its angles advanced: z(theta + phase). For an
   // autonomous direction this is another solution (the phase is free), which
   // is how a guess is turned to meet a phase condition before the solve.

@@ -35,9 +35,10 @@ std::string Primes(int n) { return std::string(static_cast<std::size_t>(n), '\''
 
 class Loader {
  public:
-  Loader(const std::string& text, const std::string& source)
-      : text_(text), symbolic_(std::make_shared<SymbolicModel>()) {
+  Loader(const std::string& text, const std::string& source, const std::vector<std::string>& added_conditions)
+      : text_(text), added_conditions_(added_conditions), symbolic_(std::make_shared<SymbolicModel>()) {
     model_.source = source;
+    model_.text = text;
   }
 
   ModelDefinition Load() {
@@ -364,12 +365,16 @@ class Loader {
   }
 
   void LoadConditions(const YAML::Node& node) {
-    if (!node || node.IsNull()) return;
     std::vector<YAML::Node> items;
-    if (node.IsSequence())
+    if (!node || node.IsNull()) {
+    } else if (node.IsSequence()) {
       for (const auto& n : node) items.push_back(n);
-    else if (node.IsScalar()) items.push_back(node);
-    else throw ModelError("'conditions' must be a list of strings like \"x(0) = 1\"", Where(node));
+    } else if (node.IsScalar()) {
+      items.push_back(node);
+    } else {
+      throw ModelError("'conditions' must be a list of strings like \"x(0) = 1\"", Where(node));
+    }
+    for (const std::string& text : added_conditions_) items.push_back(YAML::Node(text));
     for (std::size_t i = 0; i < items.size(); ++i) {
       const std::string context = "in condition " + std::to_string(i + 1);
       bool any = false;
@@ -456,10 +461,26 @@ class Loader {
     }
   }
 
+  // Without a guess, a variable of an autonomous oscillation (one unknown
+  // base) of order >= 2 starts as the harmonic through its initial state,
+  // x0 cos(w t) + v0/w sin(w t): the bundled examples' hand-written guess,
+  // and the start a zero guess is not (the pendulum's lands on w/3). A
+  // guess given in the file replaces it.
+  void DefaultGuesses() {
+    if (model_.frequencies.size() != 1 || !model_.frequencies[0].unknown) return;
+    const ex w = symbolic_->bases[0];
+    for (const auto& [vj, value] : symbolic_->initial_state) {
+      const auto [v, primes] = vj;
+      if (model_.orders[v] < 2 || primes > 1) continue;
+      symbolic_->guess[v] += primes == 0 ? value * GiNaC::cos(w * symbolic_->t) : value / w * GiNaC::sin(w * symbolic_->t);
+    }
+  }
+
   void LoadGuess(const YAML::Node& node) {
     const std::size_t n = model_.variables.size();
     symbolic_->guess.assign(n, ex(0));
     symbolic_->has_guess.assign(n, false);
+    DefaultGuesses();
     if (!node || node.IsNull()) return;
     if (!node.IsMap())
       throw ModelError("'guess' must be a map variable: expression of t", Where(node));
@@ -488,6 +509,7 @@ class Loader {
   }
 
   const std::string& text_;
+  const std::vector<std::string>& added_conditions_;
   ModelDefinition model_;
   std::shared_ptr<SymbolicModel> symbolic_;
   std::vector<SourceLocation> variable_where_;
@@ -527,9 +549,10 @@ ParameterValues ModelDefinition::ParameterValuesWith(const ParameterValues& over
   return values;
 }
 
-ModelDefinition ParseModel(const std::string& text, const std::string& source_name) {
+ModelDefinition ParseModel(const std::string& text, const std::string& source_name,
+                           const std::vector<std::string>& added_conditions) {
   try {
-    Loader loader(text, source_name);
+    Loader loader(text, source_name, added_conditions);
     return loader.Load();
   } catch (const ModelError&) {
     throw;

@@ -60,6 +60,7 @@ struct ModelDefinition {
   std::string name;
   std::string description;
   std::string source;  // file name used in error messages
+  std::string text;    // the model text as parsed (to parse again with conditions added)
 
   std::vector<std::string> variables;
   // Highest derivative order of each variable in the equations (x'' -> 2).
@@ -85,7 +86,10 @@ struct ModelDefinition {
 };
 
 // Parses model text; `source_name` is used in error messages (a file name).
-ModelDefinition ParseModel(const std::string& text, const std::string& source_name);
+// `added_conditions` (texts like "x'(0) = 0") follow the file's own: the
+// conditions a model without any gets by default (rmhb/pipeline/model.h).
+ModelDefinition ParseModel(const std::string& text, const std::string& source_name,
+                           const std::vector<std::string>& added_conditions = {});
 // Reads and parses a file; errors name `path` as given.
 ModelDefinition LoadModelFile(const std::string& path);
 

@@ -247,6 +247,8 @@ AnalyzeSummary Analyze(const Model& model, const AnalyzeOptions& options) {
     if (std::optional<AnalyzeSummary> locked = AnalyzeAutonomousLocked(model, options, &motion)) return *locked;
   AnalyzeSummary s;
   s.motion = motion;
+  s.default_conditions = model.DefaultConditions();
+  s.conditions_note = model.conditions_note;
   s.problem = model.problem;
   s.solve_options = options.solve;
   s.validate_periods = options.validate_periods;
@@ -412,6 +414,11 @@ std::string AnalyzeSummary::status_word() const {
 
 std::string AnalyzeSummary::StageReport() const {
   std::string out = motion.empty() ? "" : "motion     " + motion + "\n";
+  if (!default_conditions.empty()) {
+    out += "conditions";
+    for (const std::string& c : default_conditions) out += " " + c;
+    out += "; " + conditions_note + "\n";
+  }
   for (const std::string& line : Report(*this).lines) out += line + "\n";
   return out;
 }
@@ -422,6 +429,8 @@ json AnalyzeSummary::ToJson() const {
   json out = {{"status", status_word()}, {"message", message}, {"identified", identified},
               {"stages", Report(*this).stages}};
   if (!motion.empty()) out["motion"] = motion;
+  if (!default_conditions.empty())
+    out["default_conditions"] = {{"conditions", default_conditions}, {"note", conditions_note}};
   if (solved()) out.update(SolutionJson(*solve->solution));
   return out;
 }

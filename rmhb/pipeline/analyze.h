@@ -93,6 +93,9 @@ struct AnalyzeSummary {
   // periodic orbit of base w1/q) or "quasi-periodic ..." with the number
   // judged; empty for other models.
   std::string motion;
+  // A model without conditions of its own: those it got, and why (Model::conditions_note).
+  std::vector<std::string> default_conditions;
+  std::string conditions_note;
   double seconds = 0;
 
   bool ok() const { return status == AnalyzeStatus::kConverged; }

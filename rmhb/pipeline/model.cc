@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "integrators/cvode_integrator.h"
+#include "integrators/event_detection.h"
 #include "integrators/ida_integrator.h"
 #include "rmhb/model/recast.h"
 #include "rmhb/pipeline/settings.h"
@@ -79,6 +80,79 @@ void ChooseEquations(const std::shared_ptr<model::RecastResult>& recast, Equatio
     p->equations_note = "original: the recast needs " +
                         std::to_string(recast->problem.system.num_variables() - p->problem.system.num_variables()) +
                         " auxiliaries";
+}
+
+// Default conditions (rmhb/METHOD.md s.20): an autonomous model whose one
+// base frequency is unknown and which gives no conditions needs a phase
+// condition, and a conservative one also an amplitude: its orbits form a
+// family. The trajectory from initial_state tells them apart: if it returns
+// to initial_state (closest return on the section through it, normal to the
+// flow, within kClosedOrbit), initial_state is on a periodic orbit and the
+// conditions are initial_state itself (the bundled conservative examples'
+// choice; least squares); otherwise it approaches an attractor and only the
+// phase is fixed, by the first variable's turning point x'(0) = 0.
+constexpr double kClosedOrbit = 1e-7;  // relative to max(1, |y0|_inf)
+
+bool NeedsDefaultConditions(const model::ModelDefinition& definition, const Model& p) {
+  return definition.conditions.empty() && p.problem.frequencies.size() == 1 && p.original &&
+         !p.problem.unknown_frequency.empty() && p.problem.unknown_frequency[0];
+}
+
+// min |y(t_k) - y0|_inf / max(1, |y0|_inf) over the upward crossings t_k of
+// the section in 10 guessed periods; infinity when there are none.
+double ClosestReturn(const Model& p) {
+  const integrators::OdeSystem ode = p.original(p.problem.frequencies);
+  const Eigen::VectorXd y0 = p.initial_state;
+  Eigen::VectorXd f0(y0.size());
+  ode.rhs(0, y0.data(), f0.data());
+  if (!f0.allFinite() || f0.norm() == 0) return HUGE_VAL;
+  const auto section = [&](double, const double* y) {
+    return (Eigen::Map<const Eigen::VectorXd>(y, y0.size()) - y0).dot(f0);
+  };
+  integrators::IntegratorOptions io;
+  io.method = integrators::IntegratorOptions::Method::kBdf;  // stiff or not
+  io.relative_tolerance = 1e-12;
+  io.absolute_tolerance = 1e-14;
+  integrators::IntegrationResult info;
+  integrators::FindCrossings(ode, y0, 0, 10 * 2 * M_PI / p.problem.frequencies[0], section, 1, io, &info);
+  double closest = HUGE_VAL;
+  const Eigen::MatrixXd& states = info.trajectory.states;
+  for (long k = 0; k < states.rows(); ++k)
+    closest = std::min(closest, (states.row(k).transpose() - y0).lpNorm<Eigen::Infinity>());
+  return closest / std::max(1.0, y0.lpNorm<Eigen::Infinity>());
+}
+
+// "x(0) = (initial_state's text)" for every state: expressions of the
+// parameters, so a reload at other values follows them.
+std::vector<std::string> OrbitThroughInitialState(const model::ModelDefinition& definition, const Model& p) {
+  std::vector<std::string> out;
+  for (long i = 0; i < p.initial_state.size(); ++i) {
+    char number[32];
+    std::snprintf(number, sizeof number, "%.17g", p.initial_state(i));
+    std::string value = number;
+    for (const auto& [key, text] : definition.initial_state)
+      if (key == p.state_names[i]) value = "(" + text.text + ")";
+    out.push_back(p.state_names[i] + "(0) = " + value);  // state names are x, x', x'', ...
+  }
+  return out;
+}
+
+std::vector<std::string> DefaultConditions(const model::ModelDefinition& definition, const Model& p,
+                                           std::string* note) {
+  const double closest = ClosestReturn(p);
+  char number[32];
+  std::snprintf(number, sizeof number, "%.2g", closest);
+  if (closest <= kClosedOrbit) {
+    *note = std::string("default: the orbit through initial_state, which the trajectory returns to within ") +
+            number + ": a family of orbits, amplitude and phase fixed";
+    return OrbitThroughInitialState(definition, p);
+  }
+  *note = "default: the phase only, the trajectory from initial_state " +
+          (std::isfinite(closest) ? "returning no closer than " + std::string(number) + " to it"
+                                  : std::string("not returning to it")) +
+          ": an attractor, not a family";
+  // Every variable of an ODE model is differential: the first has x'.
+  return {definition.variables[0] + "'(0) = 0"};
 }
 
 // The model from its parsed file: `reload` recasts the same definition with
@@ -159,6 +233,15 @@ Model ModelFromDefinition(const std::shared_ptr<const model::ModelDefinition>& p
     };
   ChooseEquations(recast, route, &p);
   if (p.equations == "recast") p.frequency_parameters = recast->frequency_parameters;
+  if (NeedsDefaultConditions(definition, p)) {
+    std::string note;
+    const std::vector<std::string> conditions = DefaultConditions(definition, p, &note);
+    Model with = ModelFromDefinition(std::make_shared<const model::ModelDefinition>(model::ParseModel(
+                                         definition.text, definition.source, conditions)),
+                                     overrides, route);
+    with.conditions_note = note;
+    return with;
+  }
   DetectInvariances(&p);
   return p;
 }

@@ -97,6 +97,17 @@ struct Model {
   // route), and why kAuto chose them or kOriginal was not possible.
   std::string equations = "recast";
   std::string equations_note;
+  // Set when the file gives no conditions and the model got default ones
+  // (which, and why: ModelFromDefinition, rmhb/METHOD.md s.20).
+  std::string conditions_note;
+  // The conditions the model got by default (empty without a note), as
+  // "x(0) = (1.2)", ...: what a report prints next to the note.
+  std::vector<std::string> DefaultConditions() const {
+    std::vector<std::string> out;
+    if (!conditions_note.empty())
+      for (int c = 0; c < num_user_conditions; ++c) out.push_back(problem.conditions[c].description);
+    return out;
+  }
   // Symmetries of the equations (not imposed on `problem`): the half-wave
   // map x -> -x, t -> t + T/2 of the original equations when they have it.
   std::vector<HalfTurnSymmetry> invariances;

@@ -87,6 +87,9 @@ struct SolveSummary {
   // why, and the symmetries imposed because the guess had them
   // (ImposeGuessSymmetries).
   std::string equations = "recast", equations_note;
+  // A model without conditions of its own: those it got, and why (Model::conditions_note).
+  std::vector<std::string> default_conditions;
+  std::string conditions_note;
   std::vector<std::string> symmetries;
   int bases = 1;
 

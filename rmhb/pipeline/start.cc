@@ -77,8 +77,19 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
                                const HarmonicBalanceOptions& options, const StartOptions& start) {
   if (const std::string error = start.IsValid(); !error.empty()) throw std::invalid_argument("start: " + error);
   StartedSolve out{SolveHarmonicBalance(model.problem, guess, options), "guess", "", 0};
-  if (out.summary.usable() || out.summary.short_of_target || (!model.original && !model.original_dae)) return out;
+  // Short of the target but physical: another start would not do better.
+  if (out.summary.usable() || (out.summary.short_of_target && out.summary.physical) ||
+      (!model.original && !model.original_dae))
+    return out;
   out.note = "from the guess: " + Why(out.summary);
+  // The orbit on a sub-multiple of its frequency: restated on its own.
+  if (out.summary.repeats > 1 && out.summary.solution) {
+    HarmonicBalanceSummary lifted =
+        SolveHarmonicBalance(model.problem, out.summary.solution->OnMultipleFrequency(out.summary.repeats), options);
+    if (lifted.usable())
+      return {std::move(lifted), "guess, restated on " + std::to_string(out.summary.repeats) + " w", out.note, 0};
+    out.note += "; restated on " + std::to_string(out.summary.repeats) + " w: " + Why(lifted);
+  }
   std::string why;
   if (Unknown(model.problem)) {
     AnalyzeOptions analyze;

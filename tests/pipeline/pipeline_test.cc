@@ -40,21 +40,33 @@ TEST(Pipeline, AnalyzeFindsTheLimitCycleOfAModelFileWithDefaults) {
 }
 
 // Without identification the model's own guess starts the solve. This file
-// has none: the default (zero) start finds the equilibrium, which the
+// has none: the default is the harmonic through initial_state, q(0) cos(w t)
+// (model_definition.cc, DefaultGuesses), which reaches the limit cycle the
+// identified start finds. A zero start finds the equilibrium, which the
 // summary calls non-physical, never a solution; a program's own guess works.
 TEST(Pipeline, WithoutIdentificationTheModelsGuessStartsTheSolve) {
   Model model = LoadModel(kModel);
   AnalyzeOptions options;
   options.identify = false;
   options.solve.order = 30;
+  const AnalyzeSummary by_default = Analyze(model, options);
+  EXPECT_FALSE(by_default.trajectory.has_value());
+  ASSERT_TRUE(by_default.ok()) << by_default.FullReport();
+
+  const AnalyzeSummary identified = Analyze(model, AnalyzeOptions{options.solve});
+  ASSERT_TRUE(identified.ok()) << identified.FullReport();
+  EXPECT_NEAR(by_default.solve->solution->frequencies()[0], identified.solve->solution->frequencies()[0], 1e-13);
+
+  const HarmonicSolution& cycle = *identified.solve->solution;
+  const HarmonicSolution origin(cycle.basis(), cycle.frequencies(),
+                                Eigen::MatrixXd::Zero(cycle.num_variables(), cycle.basis().num_coefficients()),
+                                cycle.variables());
+  model.guess = [&](int) { return origin; };
   const AnalyzeSummary zero = Analyze(model, options);
-  EXPECT_FALSE(zero.trajectory.has_value());
   EXPECT_EQ(zero.status, AnalyzeStatus::kNonPhysical);
   EXPECT_NE(zero.message.find("equilibrium"), std::string::npos) << zero.message;
   EXPECT_FALSE(zero.validation.has_value());
 
-  const AnalyzeSummary identified = Analyze(model, AnalyzeOptions{options.solve});
-  ASSERT_TRUE(identified.ok()) << identified.FullReport();
   const HarmonicSolution near = identified.solve->solution->WithFrequencies({1.05 * identified.solve->solution->frequencies()[0]});
   model.guess = [&](int) { return near; };
   const AnalyzeSummary guessed = Analyze(model, options);

@@ -1,0 +1,134 @@
+// Model files as a user writes them (not bundled, not tuned): an autonomous
+// oscillation with its frequency unknown and nothing else but the equation,
+// a frequency guess and initial_state. The defaults must supply the start
+// (the harmonic through initial_state), the conditions (the orbit through
+// initial_state when the trajectory returns to it, else the phase only) and
+// refuse a frequency that is a sub-multiple of the orbit's. Each answer is
+// checked against an independent reference: a closed form, or the period
+// CVODE measures between zero crossings.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "examples/references.h"
+#include "integrators/event_detection.h"
+#include "rmhb/pipeline/model.h"
+#include "tests/cli/cli_run.h"
+
+namespace rmhb::testing {
+namespace {
+
+using examples::EllipticK;
+using examples::PendulumFrequency;
+using examples::RelativisticPeriod;
+
+std::string WriteModel(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/defaults_" + name + ".yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+double Frequency(const nlohmann::json& j) { return j["frequencies"][0].get<double>(); }
+
+// A hardening Duffing oscillator released at rest from A = 1: its orbits form
+// a family, the default conditions pick the one through initial_state, and
+// the default start is 1*cos(w t), no identification needed. Exact:
+// w = pi sqrt(1 + A^2) / (2 K(m)), m = A^2 / (2 (1 + A^2)).
+TEST(Defaults, ConservativeOrbitThroughTheInitialState) {
+  const std::string model = WriteModel("duffing", "variables: [x]\nequations: [\"x'' + x + x^3 = 0\"]\n"
+                                                  "frequencies: [{guess: 1}]\ninitial_state: {x: 1, \"x'\": 0}\n");
+  const auto j = Json("solve " + model + " --json");
+  ASSERT_EQ(j["status"], "converged") << j.dump();
+  const double exact = M_PI * std::sqrt(2.0) / (2 * EllipticK(0.25));
+  EXPECT_NEAR(Frequency(j), exact, 1e-12 * exact);
+  EXPECT_EQ(j["start"], "guess");
+  const auto& d = j["default_conditions"];
+  ASSERT_EQ(d["conditions"].size(), 2u) << j.dump();
+  EXPECT_EQ(d["conditions"][0], "x(0) = (1)");
+  EXPECT_EQ(d["conditions"][1], "x'(0) = (0)");
+  EXPECT_NE(d["note"].get<std::string>().find("the orbit through initial_state"), std::string::npos);
+  std::remove(model.c_str());
+}
+
+// Released from x = 0 at speed beta (not at a turning point): the conditions
+// are initial_state's own expressions, so they follow a parameter change;
+// against the relativistic oscillator's energy quadrature at two betas.
+TEST(Defaults, ConservativeOrbitFollowsTheParameters) {
+  const std::string model =
+      WriteModel("relativistic", "variables: [x]\nparameters: {beta: 0.85}\n"
+                                 "equations: [\"x'' + (1 - x'^2)^(3/2)*x = 0\"]\n"
+                                 "frequencies: [{guess: 0.77}]\ninitial_state: {x: 0, \"x'\": beta}\n");
+  for (const double beta : {0.85, 0.6}) {
+    const auto j = Json("solve " + model + " --set beta=" + std::to_string(beta) + " --json");
+    ASSERT_EQ(j["status"], "converged") << j.dump();
+    EXPECT_EQ(j["default_conditions"]["conditions"][1], "x'(0) = (beta)");
+    const double exact = 2 * M_PI / RelativisticPeriod(beta);
+    EXPECT_NEAR(Frequency(j), exact, 1e-11 * exact) << beta;
+  }
+  std::remove(model.c_str());
+}
+
+// Rayleigh's oscillator from near the origin: the trajectory does not return
+// to initial_state (it spirals out to the limit cycle), so only the phase
+// x'(0) = 0 is fixed. The period against CVODE's between upward crossings
+// of x after 20 transient ones.
+TEST(Defaults, LimitCycleGetsThePhaseOnly) {
+  const std::string model = WriteModel("rayleigh", "variables: [x]\nequations: [\"x'' - (1 - x'^2)*x' + x = 0\"]\n"
+                                                   "frequencies: [{guess: 1}]\ninitial_state: {x: 0.1, \"x'\": 0}\n");
+  const auto j = Json("solve " + model + " --validate --json");
+  ASSERT_EQ(j["status"], "converged") << j.dump();
+  const auto& d = j["default_conditions"];
+  ASSERT_EQ(d["conditions"].size(), 1u) << j.dump();
+  EXPECT_EQ(d["conditions"][0], "x'(0) = 0");
+  EXPECT_NE(d["note"].get<std::string>().find("phase only"), std::string::npos);
+
+  const Model loaded = LoadModel(model);
+  integrators::IntegratorOptions tight;
+  tight.relative_tolerance = 1e-13;
+  tight.absolute_tolerance = 1e-15;
+  const double period = integrators::LimitCyclePeriod(
+      loaded.original(loaded.problem.frequencies), loaded.initial_state, 400,
+      [](double, const double* y) { return y[0]; }, +1, 20, tight);
+  EXPECT_NEAR(2 * M_PI / Frequency(j), period, 1e-9 * period);
+  std::remove(model.c_str());
+}
+
+// The file's own conditions are kept as written: no defaults added.
+TEST(Defaults, TheFilesOwnConditionsAreKept) {
+  const std::string model = WriteModel("own", "variables: [x]\nequations: [\"x'' + x + x^3 = 0\"]\n"
+                                              "frequencies: [{guess: 1}]\nconditions: [\"x(0) = 1\", \"x'(0) = 0\"]\n"
+                                              "initial_state: {x: 1, \"x'\": 0}\n");
+  const auto j = Json("solve " + model + " --json");
+  ASSERT_EQ(j["status"], "converged") << j.dump();
+  EXPECT_FALSE(j.contains("default_conditions"));
+  std::remove(model.c_str());
+}
+
+// The pendulum started on w/3 with its first harmonic at 3 w: Newton
+// converges there (the same orbit written on a third of its frequency), and
+// the summary refuses it, naming the factor; `--start auto` then restates it
+// on 3 w and solves again (exact: pi / (2 K(sin^2(theta0 / 2)))).
+TEST(Defaults, ASubMultipleOfTheFrequencyIsNotASolution) {
+  const double exact = PendulumFrequency(1.5);
+  const std::string model =
+      WriteModel("third", "variables: [theta]\nequations: [\"theta'' + sin(theta) = 0\"]\n"
+                          "frequencies: [{guess: " + std::to_string(exact / 3) + "}]\n"
+                          "conditions: [\"theta(0) = 1.5\", \"theta'(0) = 0\"]\n"
+                          "initial_state: {theta: 1.5, \"theta'\": 0}\nguess: {theta: \"1.5*cos(3*w*t)\"}\n");
+  const CliRun r = Cli("solve " + model + " --start guess --order 30");
+  EXPECT_EQ(r.code, 5) << r.out;
+  EXPECT_NE(r.out.find("the orbit repeats 3 times per period"), std::string::npos) << r.out;
+  const auto j = Json("solve " + model + " --json");
+  ASSERT_EQ(j["status"], "converged") << j.dump();
+  EXPECT_NEAR(Frequency(j), exact, 1e-12 * exact);
+  EXPECT_EQ(j["start"], "guess, restated on 3 w");
+  EXPECT_NE(j["start_note"].get<std::string>().find("repeats 3 times"), std::string::npos) << j.dump();
+  std::remove(model.c_str());
+}
+
+}  // namespace
+}  // namespace rmhb::testing
