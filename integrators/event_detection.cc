@@ -138,4 +138,17 @@ double LimitCyclePeriod(const OdeSystem& system, const Eigen::VectorXd& y0, doub
   return (crossings.back() - crossings[crossings.size() - usable]) / (usable - 1);
 }
 
+std::vector<double> SectionReturns(const OdeSystem& system, const Eigen::VectorXd& y0, double t_end,
+                                   const IntegratorOptions& options, IntegrationResult* info) {
+  detail::ValidateSystem(system, "SectionReturns");
+  detail::ValidateVector(y0, system.dimension, "y0", "SectionReturns");
+  Eigen::VectorXd f0(y0.size());
+  system.rhs(0, y0.data(), f0.data());
+  if (!f0.allFinite() || f0.norm() == 0) return {};
+  const auto section = [&](double, const double* y) {
+    return (Eigen::Map<const Eigen::VectorXd>(y, y0.size()) - y0).dot(f0);
+  };
+  return FindCrossings(system, y0, 0, t_end, section, +1, options, info);
+}
+
 }  // namespace rmhb::integrators

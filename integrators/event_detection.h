@@ -52,6 +52,15 @@ double LimitCyclePeriod(const OdeSystem& system, const Eigen::VectorXd& y0, doub
                         const EventFunction& g, int direction, int transient_crossings,
                         const IntegratorOptions& options = {}, IntegrationResult* info = nullptr);
 
+// Returns of an autonomous trajectory to the section through y0 normal to
+// the flow there, (y - y0) . f(0, y0) = 0, crossed in the flow's direction
+// (as at t = 0), in (0, t_end]: their times, and in info->trajectory (when
+// info is given) the states there. A periodic orbit through y0 returns to
+// y0 itself after one period (to the tolerances); an orbit approaching an
+// attractor returns elsewhere. Empty when f(0, y0) is zero or not finite.
+std::vector<double> SectionReturns(const OdeSystem& system, const Eigen::VectorXd& y0, double t_end,
+                                   const IntegratorOptions& options = {}, IntegrationResult* info = nullptr);
+
 }  // namespace rmhb::integrators
 
 #endif  // RMHB_INTEGRATORS_EVENT_DETECTION_H_

@@ -48,6 +48,11 @@ seeding::RecordOptions Record(const Model& model, const AnalyzeOptions& o, int b
   return record;
 }
 
+// One period sampled this often resolves harmonics up to 2047; a seed needs
+// no more than kMaxPeriodOrder of them (order selection goes on from there).
+constexpr int kPeriodSamples = 4096;
+constexpr int kMaxPeriodOrder = 1024;
+
 frequency_id::IdentificationOptions IdentificationOptionsFor(const HarmonicBalanceProblem& problem, int window) {
   frequency_id::IdentificationOptions id;
   id.window_order = window;
@@ -65,6 +70,36 @@ frequency_id::IdentificationOptions IdentificationOptionsFor(const HarmonicBalan
   for (std::size_t b = 0; b < problem.frequencies.size(); ++b)
     if (!Unknown(problem, static_cast<int>(b))) id.bases.known_frequencies.push_back(problem.frequencies[b]);
   return id;
+}
+
+// An autonomous orbit (one unknown base, ODE): one exact period from the
+// record's last (settled) state, 4096 samples (rmhb/METHOD.md s.20). The
+// record's fit stops at 0.8 of its Nyquist (~25 harmonics at its ~60
+// samples per period), a relaxation oscillation needs hundreds (Van der Pol
+// at eps = 5: 312 for 1e-10).
+std::optional<frequency_id::Signal> OrbitPeriod(const Model& model, const frequency_id::Signal& record,
+                                                const frequency_id::IdentificationSummary& id) {
+  if (model.problem.frequencies.size() != 1 || !Unknown(model.problem, 0) || !model.original ||
+      id.bases.size() != 1 || !(id.bases[0].frequency > 0))
+    return std::nullopt;
+  integrators::IntegratorOptions io;
+  io.method = model.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
+  io.relative_tolerance = 1e-12;
+  io.absolute_tolerance = 1e-14;
+  const Eigen::VectorXd y0 = record.samples.bottomRows(1).transpose();
+  const double t0 = record.t0 + (record.num_samples() - 1) * record.dt;
+  return seeding::OnePeriod(model.original(model.problem.frequencies), y0, t0, 2 * M_PI / id.bases[0].frequency,
+                            kPeriodSamples, io);
+}
+
+// With a target, the order is where order selection starts: where the
+// period's harmonics fall below 1e-9 of the largest when that is higher
+// (a default target's cap, 4x the start, follows it).
+void StartAtPeriodOrder(const frequency_id::Signal& period, HarmonicBalanceOptions* options) {
+  const int order = std::min(seeding::PeriodOrder(period, 1e-9), kMaxPeriodOrder);
+  if (order <= options->order) return;
+  if (options->soft_tolerance) options->max_order = std::max(options->max_order, 4 * order);
+  options->order = order;
 }
 
 // Stages 1-3: record, identify, seed. Returns the guess, or nullopt with
@@ -108,9 +143,11 @@ std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const Analyz
     return std::nullopt;
   }
   t0 = Clock::now();
+  const std::optional<frequency_id::Signal> period = OrbitPeriod(model, signal, id);
+  if (period && s->solve_options.tolerance > 0) StartAtPeriodOrder(*period, &s->solve_options);
   try {
-    s->seed = seeding::GuessFromIdentification(id, model.problem, MakeBasis(bases, o.solve), model.variables,
-                                               model.state_derivatives, &signal);
+    s->seed = seeding::GuessFromIdentification(id, model.problem, MakeBasis(bases, s->solve_options), model.variables,
+                                               model.state_derivatives, &signal, period ? &*period : nullptr);
   } catch (const std::invalid_argument& e) {
     s->status = AnalyzeStatus::kSeedFailed;
     s->message = e.what();
@@ -259,7 +296,7 @@ AnalyzeSummary Analyze(const Model& model, const AnalyzeOptions& options) {
   else
     guess = GuessAtOrder(model, options.solve.order);
   if (guess) {
-    s.solve = SolveHarmonicBalance(s.problem, *guess, options.solve);
+    s.solve = SolveHarmonicBalance(s.problem, *guess, s.solve_options);
     if (!s.solve->converged()) {
       s.status = AnalyzeStatus::kNotConverged;
       s.message = s.solve->solver.message;
@@ -345,7 +382,7 @@ void ReportIdentification(const AnalyzeSummary& s, Stages* out) {
   identify["bases"] = identified;
   out->stages["seed"] = {{"seconds", s.seed_seconds}, {"lines_used", seed.lines_used},
                          {"lines_dropped", seed.lines_dropped}, {"energy_on_basis", JsonNumber(seed.energy_on_basis)},
-                         {"fitted_harmonics", seed.fitted_harmonics}, {"coordinates", seed.coordinates},
+                         {"fitted_harmonics", seed.fitted_harmonics}, {"period_harmonics", seed.period_harmonics}, {"coordinates", seed.coordinates},
                          {"phase_shift", seed.phase_shift}, {"condition_residual", JsonNumber(seed.condition_residual)}};
   out->lines.push_back(StringPrintf("%-10s %9.1f ms  ", "seed", s.seed_seconds * 1e3) + seed.Report());
 }

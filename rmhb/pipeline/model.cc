@@ -89,8 +89,9 @@ void ChooseEquations(const std::shared_ptr<model::RecastResult>& recast, Equatio
 // to initial_state (closest return on the section through it, normal to the
 // flow, within kClosedOrbit), initial_state is on a periodic orbit and the
 // conditions are initial_state itself (the bundled conservative examples'
-// choice; least squares); otherwise it approaches an attractor and only the
-// phase is fixed, by the first variable's turning point x'(0) = 0.
+// choice; least squares); otherwise the motion approaches an orbit (or is not
+// periodic) and only the phase is fixed, by the first variable's turning
+// point x'(0) = 0.
 constexpr double kClosedOrbit = 1e-7;  // relative to max(1, |y0|_inf)
 
 bool NeedsDefaultConditions(const model::ModelDefinition& definition, const Model& p) {
@@ -98,23 +99,17 @@ bool NeedsDefaultConditions(const model::ModelDefinition& definition, const Mode
          !p.problem.unknown_frequency.empty() && p.problem.unknown_frequency[0];
 }
 
-// min |y(t_k) - y0|_inf / max(1, |y0|_inf) over the upward crossings t_k of
-// the section in 10 guessed periods; infinity when there are none.
+// min |y(t_k) - y0|_inf / max(1, |y0|_inf) over the returns t_k to the
+// section through y0 in 10 guessed periods; infinity when there are none.
 double ClosestReturn(const Model& p) {
-  const integrators::OdeSystem ode = p.original(p.problem.frequencies);
-  const Eigen::VectorXd y0 = p.initial_state;
-  Eigen::VectorXd f0(y0.size());
-  ode.rhs(0, y0.data(), f0.data());
-  if (!f0.allFinite() || f0.norm() == 0) return HUGE_VAL;
-  const auto section = [&](double, const double* y) {
-    return (Eigen::Map<const Eigen::VectorXd>(y, y0.size()) - y0).dot(f0);
-  };
+  const Eigen::VectorXd& y0 = p.initial_state;
   integrators::IntegratorOptions io;
   io.method = integrators::IntegratorOptions::Method::kBdf;  // stiff or not
   io.relative_tolerance = 1e-12;
   io.absolute_tolerance = 1e-14;
   integrators::IntegrationResult info;
-  integrators::FindCrossings(ode, y0, 0, 10 * 2 * M_PI / p.problem.frequencies[0], section, 1, io, &info);
+  integrators::SectionReturns(p.original(p.problem.frequencies), y0, 10 * 2 * M_PI / p.problem.frequencies[0], io,
+                              &info);
   double closest = HUGE_VAL;
   const Eigen::MatrixXd& states = info.trajectory.states;
   for (long k = 0; k < states.rows(); ++k)
@@ -150,7 +145,7 @@ std::vector<std::string> DefaultConditions(const model::ModelDefinition& definit
   *note = "default: the phase only, the trajectory from initial_state " +
           (std::isfinite(closest) ? "returning no closer than " + std::string(number) + " to it"
                                   : std::string("not returning to it")) +
-          ": an attractor, not a family";
+          ": no periodic orbit through it (one the motion approaches, or none)";
   // Every variable of an ODE model is differential: the first has x'.
   return {definition.variables[0] + "'(0) = 0"};
 }

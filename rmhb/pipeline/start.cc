@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "rmhb/pipeline/analyze.h"
@@ -9,11 +10,18 @@
 namespace rmhb {
 namespace {
 
+// An estimated error above this is no orbit to keep when another start exists.
+constexpr double kFarFromTarget = 1e-3;
+
 bool Unknown(const HarmonicBalanceProblem& p) { return p.num_unknown_frequencies() > 0; }
 
 std::string Why(const HarmonicBalanceSummary& s) {
   if (!s.converged()) return std::string(ToString(s.solver.status)) + ", max|F| " + std::to_string(s.solver.final_residual);
-  return "non-physical: " + s.non_physical;
+  if (!s.physical) return "non-physical: " + s.non_physical;
+  char far[96];
+  std::snprintf(far, sizeof far, "order %d, estimated error %.2g (> %.0e: not yet the orbit)", s.order,
+                s.truncation_estimate, kFarFromTarget);
+  return far;
 }
 
 // Analyze with a record that starts on the settled state (identification
@@ -77,10 +85,13 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
                                const HarmonicBalanceOptions& options, const StartOptions& start) {
   if (const std::string error = start.IsValid(); !error.empty()) throw std::invalid_argument("start: " + error);
   StartedSolve out{SolveHarmonicBalance(model.problem, guess, options), "guess", "", 0};
-  // Short of the target but physical: another start would not do better.
-  if (out.summary.usable() || (out.summary.short_of_target && out.summary.physical) ||
-      (!model.original && !model.original_dae))
-    return out;
+  // Short of the target but physical and close to it: another start would
+  // not do better. Far from it (Van der Pol at eps = 20 from a cosine: order
+  // 20, estimated error 1.6e2), the orbit found is not yet the orbit.
+  const HarmonicBalanceSummary& first = out.summary;
+  const bool far = first.short_of_target && first.truncation_estimate > kFarFromTarget;
+  const bool keep = !far && (first.usable() || (first.short_of_target && first.physical));
+  if (keep || (!model.original && !model.original_dae)) return out;
   out.note = "from the guess: " + Why(out.summary);
   // The orbit on a sub-multiple of its frequency: restated on its own.
   if (out.summary.repeats > 1 && out.summary.solution) {

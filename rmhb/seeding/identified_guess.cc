@@ -6,7 +6,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fftw3.h>
+
 #include "integrators/cvode_integrator.h"
+#include "integrators/event_detection.h"
 #include "integrators/ida_integrator.h"
 
 namespace rmhb::seeding {
@@ -52,6 +55,51 @@ std::vector<Line> FitHarmonics(const frequency_id::Signal& record, double w, int
       line.amplitude(ch) = std::hypot(c(2 * k - 1, ch), c(2 * k, ch));
       line.phase(ch) = std::atan2(-c(2 * k, ch), c(2 * k - 1, ch));
     }
+  }
+  return lines;
+}
+
+// Fourier coefficients of one period sampled uniformly (M rows), per channel:
+// a_k (row 0 the mean) and b_k for k = 0 .. M/2 - 1, as
+// y(t0 + tau) = a_0 + sum a_k cos(k w tau) + b_k sin(k w tau). FFTW's r2c.
+void PeriodCoefficients(const frequency_id::Signal& period, Eigen::MatrixXd* a, Eigen::MatrixXd* b) {
+  const int M = period.num_samples(), channels = period.num_channels(), K = M / 2;
+  a->setZero(K, channels);
+  b->setZero(K, channels);
+  std::vector<double> in(M);
+  std::vector<fftw_complex> out(M / 2 + 1);
+  fftw_plan plan = fftw_plan_dft_r2c_1d(M, in.data(), out.data(), FFTW_ESTIMATE);
+  for (int c = 0; c < channels; ++c) {
+    for (int m = 0; m < M; ++m) in[m] = period.samples(m, c);
+    fftw_execute(plan);
+    (*a)(0, c) = out[0][0] / M;
+    for (int k = 1; k < K; ++k) {
+      (*a)(k, c) = 2 * out[k][0] / M;
+      (*b)(k, c) = -2 * out[k][1] / M;
+    }
+  }
+  fftw_destroy_plan(plan);
+}
+
+// The period's harmonics 1 .. min(order, M/2 - 1) as lines in absolute time.
+std::vector<Line> PeriodHarmonics(const frequency_id::Signal& period, int order, Eigen::VectorXd* mean) {
+  Eigen::MatrixXd a, b;
+  PeriodCoefficients(period, &a, &b);
+  const double w = 2 * M_PI / period.duration();
+  *mean = a.row(0).transpose();
+  std::vector<Line> lines;
+  for (int k = 1; k <= std::min<int>(order, a.rows() - 1); ++k) {
+    Line line;
+    line.label = {k};
+    line.frequency = k * w;
+    line.amplitude.resize(a.cols());
+    line.phase.resize(a.cols());
+    for (long c = 0; c < a.cols(); ++c) {
+      // a cos(k w tau) + b sin(k w tau) = A cos(k w t + phase), tau = t - t0
+      line.amplitude(c) = std::hypot(a(k, c), b(k, c));
+      line.phase(c) = std::atan2(-b(k, c), a(k, c)) - k * w * period.t0;
+    }
+    lines.push_back(std::move(line));
   }
   return lines;
 }
@@ -254,7 +302,8 @@ frequency_id::Signal RecordTrajectory(const integrators::DaeSystem& system, cons
 
 IdentifiedGuess GuessFromIdentification(const IdentificationSummary& id, const HarmonicBalanceProblem& problem,
                                         const HarmonicBasis& basis, const StateToVariables& variables,
-                                        int state_derivatives, const frequency_id::Signal* record) {
+                                        int state_derivatives, const frequency_id::Signal* record,
+                                        const frequency_id::Signal* period) {
   const int d = static_cast<int>(problem.frequencies.size());
   if (!id.IsUsable()) throw std::invalid_argument("the identification is not usable: " + id.message);
   if (static_cast<int>(id.bases.size()) != d)
@@ -315,7 +364,12 @@ IdentifiedGuess GuessFromIdentification(const IdentificationSummary& id, const H
   out.energy_on_basis = energy > 0 ? on_basis / energy : 0;
 
   Eigen::VectorXd mean = id.mean;
-  if (d == 1 && record) {
+  if (d == 1 && period) {
+    lines = PeriodHarmonics(*period, basis.Reach(0), &mean);
+    out.period_harmonics = static_cast<int>(lines.size());
+    const bool unknown = !problem.unknown_frequency.empty() && problem.unknown_frequency[0];
+    if (unknown) w[0] = out.frequencies[0] = 2 * M_PI / period->duration();
+  } else if (d == 1 && record) {
     lines = FitHarmonics(*record, w[0], basis.Reach(0), &mean);
     out.fitted_harmonics = static_cast<int>(lines.size());
   }
@@ -349,6 +403,7 @@ std::string IdentifiedGuess::Report() const {
   for (int b = 0; b < d; ++b)
     for (int i = 0; i < d; ++i) identity = identity && coordinates[b][i] == (b == i);
   if (fitted_harmonics) os << fitted_harmonics << " harmonics fitted on the record; ";
+  if (period_harmonics) os << period_harmonics << " harmonics of one period (its return to the section); ";
   os << lines_used << " labelled lines on the basis (" << 100 * energy_on_basis << "% of the line energy), "
      << lines_dropped << " left out";
   if (!identity) {
@@ -373,6 +428,40 @@ std::string IdentifiedGuess::Report() const {
   }
   os << "; conditions residual " << condition_residual;
   return os.str();
+}
+
+std::optional<frequency_id::Signal> OnePeriod(const integrators::OdeSystem& system, const Eigen::VectorXd& y0,
+                                              double t0, double period_guess, int samples,
+                                              const integrators::IntegratorOptions& options) {
+  if (!(period_guess > 0) || samples < 8) throw std::invalid_argument("OnePeriod: period_guess > 0, samples >= 8");
+  integrators::IntegrationResult info;
+  const std::vector<double> returns = integrators::SectionReturns(system, y0, 1.2 * period_guess, options, &info);
+  const auto close = std::find_if(returns.begin(), returns.end(),
+                                  [&](double t) { return std::abs(t - period_guess) <= 0.2 * period_guess; });
+  if (close == returns.end()) return std::nullopt;
+  const double T = *close;
+  std::vector<double> times(samples);
+  for (int m = 0; m < samples; ++m) times[m] = m * T / samples;
+  const integrators::IntegrationResult r = integrators::IntegrateOde(system, y0, 0.0, times, options);
+  if (!r.ok()) return std::nullopt;
+  frequency_id::Signal out;
+  out.dt = T / samples;
+  out.t0 = t0;
+  out.samples = r.trajectory.states;
+  return out;
+}
+
+int PeriodOrder(const frequency_id::Signal& period, double floor) {
+  Eigen::MatrixXd a, b;
+  PeriodCoefficients(period, &a, &b);
+  Eigen::VectorXd size = Eigen::VectorXd::Zero(a.rows());
+  for (long k = 1; k < a.rows(); ++k)
+    for (long c = 0; c < a.cols(); ++c) size(k) = std::max(size(k), std::hypot(a(k, c), b(k, c)));
+  const double largest = size.maxCoeff();
+  int order = 1;
+  for (long k = 1; k < size.size(); ++k)
+    if (size(k) > floor * largest) order = static_cast<int>(k);
+  return order;
 }
 
 }  // namespace rmhb::seeding

@@ -32,6 +32,7 @@
 //    reconstructed state, then everything is projected on the basis.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -97,6 +98,8 @@ struct IdentifiedGuess {
   // One base with the record given: harmonics fitted on the record directly
   // (0: the guess is made of the identified lines).
   int fitted_harmonics = 0;
+  // One base with one exact period given: its harmonics by the DFT (0: not).
+  int period_harmonics = 0;
   std::string Report() const;  // one paragraph
 };
 
@@ -112,12 +115,32 @@ struct IdentifiedGuess {
 // (least squares over the record's last periods): a relaxation oscillation
 // has hundreds of harmonics, more than identification models as lines
 // (max_components) or labels (max_harmonic).
+//
+// With one base and `period` (one exact period of the state sampled
+// uniformly, e.g. by OnePeriod), the harmonics are those of the period (DFT,
+// every one of the basis below its Nyquist) and the frequency is
+// 2 pi / its length: no fit, no identification error.
 IdentifiedGuess GuessFromIdentification(const frequency_id::IdentificationSummary& identification,
                                         const HarmonicBalanceProblem& problem,
                                         const HarmonicBasis& basis,
                                         const StateToVariables& variables,
                                         int state_derivatives = 0,
-                                        const frequency_id::Signal* record = nullptr);
+                                        const frequency_id::Signal* record = nullptr,
+                                        const frequency_id::Signal* period = nullptr);
+
+// One period of an autonomous orbit through the state y0 (on the orbit,
+// e.g. a record's settled last sample): its length is the first return to
+// the section through y0 (integrators::SectionReturns) within 20 % of
+// `period_guess`, and its `samples` states at t0 + m T / samples. nullopt
+// when there is no such return (not periodic, or a period far from the guess).
+std::optional<frequency_id::Signal> OnePeriod(const integrators::OdeSystem& system, const Eigen::VectorXd& y0,
+                                              double t0, double period_guess, int samples,
+                                              const integrators::IntegratorOptions& options);
+
+// The highest harmonic of `period` (as OnePeriod gives it) whose largest
+// coefficient over the channels exceeds `floor` times the largest harmonic's:
+// the order a harmonic balance of that orbit needs to reach ~floor.
+int PeriodOrder(const frequency_id::Signal& period, double floor);
 
 }  // namespace rmhb::seeding
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -184,6 +185,33 @@ TEST(IdentifiedGuess, RefusesAnIdentificationWithAnotherNumberOfBases) {
     EXPECT_NE(std::string(err.what()).find("found 1 base frequencies, the model has 2"), std::string::npos)
         << err.what();
   }
+}
+
+// One period of the exact orbit x = cos t + 0.1 cos 3t of a linear system
+// with those two modes (x'' = -x for the first, -9 x for the second, as a
+// 4-state ODE): the return to the section is 2 pi to the tolerance, the DFT
+// gives both harmonics and nothing else, and the order for 1e-9 is 3.
+TEST(OnePeriod, ExactPeriodAndHarmonicsOfAKnownOrbit) {
+  integrators::OdeSystem ode{4, [](double, const double* y, double* dy) {
+                               dy[0] = y[1], dy[1] = -y[0], dy[2] = y[3], dy[3] = -9 * y[2];
+                             }};
+  integrators::IntegratorOptions io;
+  io.relative_tolerance = 1e-12;
+  io.absolute_tolerance = 1e-14;
+  const Eigen::Vector4d y0(1, 0, 0.1, 0);
+  const std::optional<frequency_id::Signal> period = OnePeriod(ode, y0, 5.0, 6.0, 256, io);
+  ASSERT_TRUE(period.has_value());
+  EXPECT_NEAR(period->duration(), 2 * M_PI, 1e-10);
+  EXPECT_EQ(period->t0, 5.0);
+  EXPECT_EQ(PeriodOrder(*period, 1e-9), 3);
+  // Sample m is the orbit at m T / 256 from y0.
+  for (int m : {0, 37, 200}) {
+    const double t = m * period->dt;
+    EXPECT_NEAR(period->samples(m, 0) + period->samples(m, 2), std::cos(t) + 0.1 * std::cos(3 * t), 1e-10);
+  }
+  // Far from the guess: no return within 20 % of it.
+  EXPECT_FALSE(OnePeriod(ode, y0, 0.0, 3.0, 256, io).has_value());
+  EXPECT_THROW(OnePeriod(ode, y0, 0.0, -1.0, 256, io), std::invalid_argument);
 }
 
 }  // namespace
