@@ -33,6 +33,15 @@ PreparedSolve PrepareSolve(Model model, const SolveSettings& a) {
   if (!a.frequencies.empty()) SetFrequencies(a.frequencies, &model);
   HarmonicBalanceProblem& problem = model.problem;
   const int bases = static_cast<int>(problem.frequencies.size());
+  // Each unknown frequency needs a condition (its phase); ModelFromDefinition
+  // supplies them only for an ODE model with one unknown base.
+  if (model.from_file && model.num_user_conditions < problem.num_unknown_frequencies())
+    throw std::invalid_argument(
+        model.name + ": unknown base frequencies " + std::to_string(problem.num_unknown_frequencies()) +
+        ", conditions at t = 0 " + std::to_string(model.num_user_conditions) +
+        ": each unknown frequency needs one (a phase condition such as \"x'(0) = 0\"), a conservative orbit also "
+        "its amplitude (such as \"x(0) = 1.5\"); they are supplied by default only for ODE models with one unknown "
+        "base and no conditions");
 
   HarmonicBalanceOptions options;
   options.order = a.order > 0 ? a.order : model.default_order;

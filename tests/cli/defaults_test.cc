@@ -125,6 +125,20 @@ TEST(Defaults, RelaxationOscillationFromAUsersFile) {
   std::remove(model.c_str());
 }
 
+// A DAE (no default conditions: the closure test integrates ODEs) without
+// conditions is refused up front with what to add, exit 2; it used to climb
+// to order 100 and end "underdetermined".
+TEST(Defaults, MissingConditionsOfADaeAreNamed) {
+  const std::string model =
+      WriteModel("dae", "variables: [x, z]\nequations: [\"x'' + x*z = 0\", \"z*(1 + x^2) = 1\"]\n"
+                        "frequencies: [{guess: 0.8}]\ninitial_state: {x: 1.5, \"x'\": 0}\n");
+  const CliRun r = Cli("solve " + model);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("unknown base frequencies 1, conditions at t = 0 0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("x'(0) = 0"), std::string::npos) << r.out;
+  std::remove(model.c_str());
+}
+
 // The file's own conditions are kept as written: no defaults added.
 TEST(Defaults, TheFilesOwnConditionsAreKept) {
   const std::string model = WriteModel("own", "variables: [x]\nequations: [\"x'' + x + x^3 = 0\"]\n"
