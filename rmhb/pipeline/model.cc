@@ -134,6 +134,12 @@ std::vector<std::string> OrbitThroughInitialState(const model::ModelDefinition& 
 
 std::vector<std::string> DefaultConditions(const model::ModelDefinition& definition, const Model& p,
                                            std::string* note) {
+  const std::vector<std::string> phase = {definition.variables[0] + "'(0) = 0"};
+  if (definition.initial_state.empty()) {
+    *note = "default: the phase only; without initial_state nothing tells a conservative family from a limit "
+            "cycle, nor seeds the solve";
+    return phase;
+  }
   const double closest = ClosestReturn(p);
   char number[32];
   std::snprintf(number, sizeof number, "%.2g", closest);
@@ -146,8 +152,7 @@ std::vector<std::string> DefaultConditions(const model::ModelDefinition& definit
           (std::isfinite(closest) ? "returning no closer than " + std::string(number) + " to it"
                                   : std::string("not returning to it")) +
           ": no periodic orbit through it (one the motion approaches, or none)";
-  // Every variable of an ODE model is differential: the first has x'.
-  return {definition.variables[0] + "'(0) = 0"};
+  return phase;  // every variable of an ODE model is differential: the first has x'.
 }
 
 // The model from its parsed file: `reload` recasts the same definition with
