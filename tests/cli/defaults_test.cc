@@ -34,6 +34,18 @@ std::string WriteModel(const std::string& name, const std::string& text) {
 
 double Frequency(const nlohmann::json& j) { return j["frequencies"][0].get<double>(); }
 
+// The limit cycle's period from the file's initial_state: CVODE at rtol
+// 1e-13, the mean spacing of x's upward zero crossings over [0, t_end] after
+// `transient` of them.
+double CvodePeriod(const std::string& model_path, double t_end, int transient) {
+  const Model model = LoadModel(model_path);
+  integrators::IntegratorOptions tight;
+  tight.relative_tolerance = 1e-13;
+  tight.absolute_tolerance = 1e-15;
+  return integrators::LimitCyclePeriod(model.original(model.problem.frequencies), model.initial_state, t_end,
+                                       [](double, const double* y) { return y[0]; }, +1, transient, tight);
+}
+
 // A hardening Duffing oscillator released at rest from A = 1: its orbits form
 // a family, the default conditions pick the one through initial_state, and
 // the default start is 1*cos(w t), no identification needed. Exact:
@@ -86,13 +98,7 @@ TEST(Defaults, LimitCycleGetsThePhaseOnly) {
   EXPECT_EQ(d["conditions"][0], "x'(0) = 0");
   EXPECT_NE(d["note"].get<std::string>().find("phase only"), std::string::npos);
 
-  const Model loaded = LoadModel(model);
-  integrators::IntegratorOptions tight;
-  tight.relative_tolerance = 1e-13;
-  tight.absolute_tolerance = 1e-15;
-  const double period = integrators::LimitCyclePeriod(
-      loaded.original(loaded.problem.frequencies), loaded.initial_state, 400,
-      [](double, const double* y) { return y[0]; }, +1, 20, tight);
+  const double period = CvodePeriod(model, 400, 20);
   EXPECT_NEAR(2 * M_PI / Frequency(j), period, 1e-9 * period);
   std::remove(model.c_str());
 }
@@ -114,13 +120,7 @@ TEST(Defaults, RelaxationOscillationFromAUsersFile) {
   const auto builtin = Json("solve vanderpol --set eps=5 --json");
   EXPECT_NEAR(Frequency(j), Frequency(builtin), 1e-13);
 
-  const Model loaded = LoadModel(model);
-  integrators::IntegratorOptions tight;
-  tight.relative_tolerance = 1e-13;
-  tight.absolute_tolerance = 1e-15;
-  const double period = integrators::LimitCyclePeriod(
-      loaded.original(loaded.problem.frequencies), loaded.initial_state, 600,
-      [](double, const double* y) { return y[0]; }, +1, 10, tight);
+  const double period = CvodePeriod(model, 600, 10);
   EXPECT_NEAR(2 * M_PI / Frequency(j), period, 1e-9 * period);
   std::remove(model.c_str());
 }
