@@ -66,6 +66,25 @@ TEST(Defaults, ConservativeOrbitThroughTheInitialState) {
   std::remove(model.c_str());
 }
 
+// Kepler's problem in the plane, from perihelion-free data (r = 1, speed
+// 1.2 tangential): four states, four default conditions (the orbit through
+// them), a radical recast. Exact: T = 2 pi a^(3/2), a = -1 / (2 E),
+// E = v^2 / 2 - 1 / r.
+TEST(Defaults, KeplerOrbitOfAUsersFile) {
+  const std::string model = WriteModel("kepler", "variables: [x, y]\nequations:\n"
+                                                 "  - \"x'' = -x/(x^2 + y^2)^(3/2)\"\n"
+                                                 "  - \"y'' = -y/(x^2 + y^2)^(3/2)\"\n"
+                                                 "frequencies: [{guess: 1}]\n"
+                                                 "initial_state: {x: 1, \"x'\": 0, y: 0, \"y'\": 1.2}\n");
+  const auto j = Json("solve " + model + " --json");
+  ASSERT_EQ(j["status"], "converged") << j.dump();
+  EXPECT_EQ(j["default_conditions"]["conditions"].size(), 4u);
+  const double a = -1 / (2 * (0.5 * 1.2 * 1.2 - 1));
+  const double exact = 1 / std::pow(a, 1.5);  // 2 pi / T
+  EXPECT_NEAR(Frequency(j), exact, 1e-11 * exact);
+  std::remove(model.c_str());
+}
+
 // Released from x = 0 at speed beta (not at a turning point): the conditions
 // are initial_state's own expressions, so they follow a parameter change;
 // against the relativistic oscillator's energy quadrature at two betas.
