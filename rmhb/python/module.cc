@@ -137,6 +137,8 @@ std::string ToJson(const Solution& self) {
                         {"seconds", self.summary.seconds}};
   out.update(PhysicalJson(self.summary));
   if (self.summary.solution) out.update(SolutionJson(*self.summary.solution));
+  if (const std::vector<std::string> added = self.model->DefaultConditions(); !added.empty())
+    out["default_conditions"] = {{"conditions", added}, {"note", self.model->conditions_note}};
   return out.dump();
 }
 

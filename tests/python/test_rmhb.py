@@ -196,3 +196,18 @@ def test_the_example_script_runs(tmp_path):
     assert "folds at w" in run.stdout
     data = np.genfromtxt(out, delimiter=",", names=True)
     assert np.nansum(data["stable"] == 0) > 3 and np.nanmax(data["amplitude"]) > 2
+
+
+def test_a_users_file_without_conditions_or_guess_gets_the_clis_defaults(tmp_path):
+    # The hardening Duffing oscillator from x = 1 at rest, nothing else given:
+    # the orbit through initial_state (rmhb/METHOD.md s.20), as the CLI.
+    model = tmp_path / "hardening.yaml"
+    model.write_text('variables: [x]\nequations: ["x\'\' + x + x^3 = 0"]\n'
+                     'frequencies: [{guess: 1}]\ninitial_state: {x: 1, "x\'": 0}\n')
+    s = rmhb.Model(str(model)).solve()
+    assert s.converged
+    ref = cli_json("solve", str(model))
+    assert s.frequencies[0] == ref["frequencies"][0]
+    assert json.loads(s.to_json())["default_conditions"] == ref["default_conditions"]
+    k = 1.685750354812596  # K(m = 1/4), the elliptic closed form
+    assert abs(s.frequencies[0] - math.pi * math.sqrt(2) / (2 * k)) < 1e-12
