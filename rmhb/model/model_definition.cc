@@ -366,14 +366,13 @@ class Loader {
 
   void LoadConditions(const YAML::Node& node) {
     std::vector<YAML::Node> items;
-    if (!node || node.IsNull()) {
-    } else if (node.IsSequence()) {
-      for (const auto& n : node) items.push_back(n);
-    } else if (node.IsScalar()) {
-      items.push_back(node);
-    } else {
-      throw ModelError("'conditions' must be a list of strings like \"x(0) = 1\"", Where(node));
+    if (node && !node.IsNull()) {
+      if (node.IsSequence())
+        for (const auto& n : node) items.push_back(n);
+      else if (node.IsScalar()) items.push_back(node);
+      else throw ModelError("'conditions' must be a list of strings like \"x(0) = 1\"", Where(node));
     }
+    // The defaults ModelFromDefinition chose (no place in the file).
     for (const std::string& text : added_conditions_) items.push_back(YAML::Node(text));
     for (std::size_t i = 0; i < items.size(); ++i) {
       const std::string context = "in condition " + std::to_string(i + 1);
