@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <map>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
