@@ -104,12 +104,13 @@ frequency_id::IdentificationOptions IdentificationOptionsFor(const HarmonicBalan
 // samples per period), a relaxation oscillation needs hundreds (Van der Pol
 // at eps = 5: 312 for 1e-10).
 std::optional<frequency_id::Signal> OrbitPeriod(const Model& model, const frequency_id::Signal& record,
-                                                const frequency_id::IdentificationSummary& id) {
+                                                const frequency_id::IdentificationSummary& id,
+                                                integrators::IntegratorOptions::Method method) {
   if (model.problem.frequencies.size() != 1 || !Unknown(model.problem, 0) || !model.original ||
       id.bases.size() != 1 || !(id.bases[0].frequency > 0))
     return std::nullopt;
   integrators::IntegratorOptions io;
-  io.method = model.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
+  io.method = method;  // the record's
   io.relative_tolerance = 1e-12;
   io.absolute_tolerance = 1e-14;
   const Eigen::VectorXd y0 = record.samples.bottomRows(1).transpose();
@@ -171,7 +172,7 @@ std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const Analyz
     return std::nullopt;
   }
   t0 = Clock::now();
-  const std::optional<frequency_id::Signal> period = OrbitPeriod(model, signal, id);
+  const std::optional<frequency_id::Signal> period = OrbitPeriod(model, signal, id, stage.record.integrator.method);
   if (period && s->solve_options.tolerance > 0) StartAtPeriodOrder(*period, &s->solve_options);
   try {
     s->seed = seeding::GuessFromIdentification(id, model.problem, MakeBasis(bases, s->solve_options), model.variables,
