@@ -430,6 +430,10 @@ std::string IdentifiedGuess::Report() const {
   return os.str();
 }
 
+// How close the return must come to y0, relative to max(1, |y0|): a settled
+// orbit returns to the integrator's accuracy, a torus' trajectory does not.
+constexpr double kClosedReturn = 1e-6;
+
 std::optional<frequency_id::Signal> OnePeriod(const integrators::OdeSystem& system, const Eigen::VectorXd& y0,
                                               double t0, double period_guess, int samples,
                                               const integrators::IntegratorOptions& options) {
@@ -439,6 +443,10 @@ std::optional<frequency_id::Signal> OnePeriod(const integrators::OdeSystem& syst
   const auto close = std::find_if(returns.begin(), returns.end(),
                                   [&](double t) { return std::abs(t - period_guess) <= 0.2 * period_guess; });
   if (close == returns.end()) return std::nullopt;
+  // Back at y0 (a periodic orbit), not merely near it (a torus' return).
+  const Eigen::VectorXd back = info.trajectory.states.row(close - returns.begin()).transpose();
+  if ((back - y0).lpNorm<Eigen::Infinity>() > kClosedReturn * std::max(1.0, y0.lpNorm<Eigen::Infinity>()))
+    return std::nullopt;
   const double T = *close;
   std::vector<double> times(samples);
   for (int m = 0; m < samples; ++m) times[m] = m * T / samples;

@@ -131,8 +131,9 @@ IdentifiedGuess GuessFromIdentification(const frequency_id::IdentificationSummar
 // One period of an autonomous orbit through the state y0 (on the orbit,
 // e.g. a record's settled last sample): its length is the first return to
 // the section through y0 (integrators::SectionReturns) within 20 % of
-// `period_guess`, and its `samples` states at t0 + m T / samples. nullopt
-// when there is no such return (not periodic, or a period far from the guess).
+// `period_guess` and within 1e-6 max(1, |y0|) of y0, and its `samples` states
+// at t0 + m T / samples. nullopt when there is no such return (not periodic,
+// or a period far from the guess).
 std::optional<frequency_id::Signal> OnePeriod(const integrators::OdeSystem& system, const Eigen::VectorXd& y0,
                                               double t0, double period_guess, int samples,
                                               const integrators::IntegratorOptions& options);

@@ -209,6 +209,12 @@ TEST(OnePeriod, ExactPeriodAndHarmonicsOfAKnownOrbit) {
     const double t = m * period->dt;
     EXPECT_NEAR(period->samples(m, 0) + period->samples(m, 2), std::cos(t) + 0.1 * std::cos(3 * t), 1e-10);
   }
+  // Incommensurate modes (-2 instead of -9): the return comes near y0 but
+  // not back to it, a torus, no period.
+  integrators::OdeSystem torus{4, [](double, const double* y, double* dy) {
+                                 dy[0] = y[1], dy[1] = -y[0], dy[2] = y[3], dy[3] = -2 * y[2];
+                               }};
+  EXPECT_FALSE(OnePeriod(torus, y0, 0.0, 6.0, 256, io).has_value());
   // Far from the guess: no return within 20 % of it.
   EXPECT_FALSE(OnePeriod(ode, y0, 0.0, 3.0, 256, io).has_value());
   EXPECT_THROW(OnePeriod(ode, y0, 0.0, -1.0, 256, io), std::invalid_argument);
