@@ -140,9 +140,7 @@ std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const Analyz
   if (settle) record_options.transient = 0;
   RecordStage stage;
   stage.record = Record(model, record_options, bases);
-  stage.integrator = model.original_dae ? OriginalIntegrator(model)
-                     : stage.record.integrator.method == integrators::IntegratorOptions::Method::kBdf ? "CVODE BDF"
-                                                                                                       : "CVODE Adams";
+  stage.integrator = OriginalIntegrator(model, stage.record.integrator.method);
   auto t0 = Clock::now();
   Eigen::VectorXd y0 = model.initial_state;
   if (settle) {
@@ -480,11 +478,8 @@ std::string AnalyzeSummary::status_word() const {
 
 std::string AnalyzeSummary::StageReport() const {
   std::string out = motion.empty() ? "" : "motion     " + motion + "\n";
-  if (!default_conditions.empty()) {
-    out += "conditions";
-    for (const std::string& c : default_conditions) out += " " + c;
-    out += "; " + conditions_note + "\n";
-  }
+  if (!default_conditions.empty())
+    out += "conditions " + DefaultConditionsText(default_conditions, conditions_note) + "\n";
   for (const std::string& line : Report(*this).lines) out += line + "\n";
   return out;
 }
@@ -496,7 +491,7 @@ json AnalyzeSummary::ToJson() const {
               {"stages", Report(*this).stages}};
   if (!motion.empty()) out["motion"] = motion;
   if (!default_conditions.empty())
-    out["default_conditions"] = {{"conditions", default_conditions}, {"note", conditions_note}};
+    out["default_conditions"] = DefaultConditionsJson(default_conditions, conditions_note);
   if (solved()) out.update(SolutionJson(*solve->solution));
   return out;
 }

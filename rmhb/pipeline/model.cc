@@ -329,8 +329,14 @@ int ImposeGuessSymmetries(const HarmonicSolution& guess, Model* model) {
   return static_cast<int>(held.size());
 }
 
+const char* OriginalIntegrator(const Model& source, integrators::IntegratorOptions::Method method) {
+  return source.original_dae ? "IDA BDF" : method == integrators::IntegratorOptions::Method::kBdf ? "CVODE BDF"
+                                                                                               : "CVODE Adams";
+}
+
 const char* OriginalIntegrator(const Model& source) {
-  return source.original_dae ? "IDA BDF" : source.stiff ? "CVODE BDF" : "CVODE Adams";
+  return OriginalIntegrator(source, source.stiff ? integrators::IntegratorOptions::Method::kBdf
+                                                 : integrators::IntegratorOptions::Method::kAdams);
 }
 
 frequency_id::Signal RecordOriginal(const Model& source, const std::vector<double>& w,

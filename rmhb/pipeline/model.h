@@ -175,6 +175,8 @@ int ImposeGuessSymmetries(const HarmonicSolution& guess, Model* model);
 // DAE, else CVODE (BDF when the model is stiff). They throw
 // std::invalid_argument with original_error when there are none.
 const char* OriginalIntegrator(const Model& model);  // "IDA BDF", "CVODE BDF", "CVODE Adams"
+// The same for an ODE model integrated by `method` instead of its own choice.
+const char* OriginalIntegrator(const Model& model, integrators::IntegratorOptions::Method method);
 frequency_id::Signal RecordOriginal(const Model& model, const std::vector<double>& w, const Eigen::VectorXd& y0,
                                     const seeding::RecordOptions& record);
 // The original equations integrated from (0, y0) and sampled at `times`:

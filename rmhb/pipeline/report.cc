@@ -64,6 +64,16 @@ json SolutionJson(const HarmonicSolution& sol) {
   return out;
 }
 
+json DefaultConditionsJson(const std::vector<std::string>& conditions, const std::string& note) {
+  return {{"conditions", conditions}, {"note", note}};
+}
+
+std::string DefaultConditionsText(const std::vector<std::string>& conditions, const std::string& note) {
+  std::string out;
+  for (const std::string& c : conditions) out += (out.empty() ? "" : " ") + c;
+  return out + "; " + note;
+}
+
 json PhysicalJson(const HarmonicBalanceSummary& summary) {
   json out = json::object();
   if (!summary.converged()) return out;

@@ -42,6 +42,12 @@ nlohmann::json PhysicalJson(const HarmonicBalanceSummary& summary);
 // empty when the solve did not converge.
 std::string PhysicalLine(const HarmonicBalanceSummary& summary);
 
+// The conditions a model file got by default (Model::DefaultConditions) and
+// why: {"conditions": [...], "note": ...} for --json, and "c1 c2; note" for
+// a report line after its label.
+nlohmann::json DefaultConditionsJson(const std::vector<std::string>& conditions, const std::string& note);
+std::string DefaultConditionsText(const std::vector<std::string>& conditions, const std::string& note);
+
 // The recast of a model: equation, degree, variables (name, role,
 // definition), equations (with balance_constant), conditions, frequencies
 // (value, unknown).

@@ -44,11 +44,8 @@ std::string Details(const SolveSummary& s) {
            "):\n" + s.recast;
   else
     out += Format("recast (phi = %d):\n", hb.degree) + s.recast;
-  if (!s.default_conditions.empty()) {
-    out += "conditions  ";
-    for (const std::string& c : s.default_conditions) out += " " + c;
-    out += "; " + s.conditions_note + "\n";
-  }
+  if (!s.default_conditions.empty())
+    out += "conditions   " + DefaultConditionsText(s.default_conditions, s.conditions_note) + "\n";
   for (const std::string& symmetry : s.symmetries) out += "symmetry     " + symmetry + " (the guess has it)\n";
   for (const HalfTurnSymmetry& symmetry : hb.symmetries_found)
     out += "symmetry     " + symmetry.description + " (the first solution has it)\n";
@@ -153,7 +150,7 @@ json SolveSummary::ToJson() const {
   if (!start_note.empty()) out["start_note"] = start_note;
   out["equations"] = equations;
   if (!equations_note.empty()) out["equations_note"] = equations_note;
-  if (!default_conditions.empty()) out["default_conditions"] = {{"conditions", default_conditions}, {"note", conditions_note}};
+  if (!default_conditions.empty()) out["default_conditions"] = DefaultConditionsJson(default_conditions, conditions_note);
   if (!symmetries.empty() || !hb.symmetries_found.empty()) {
     std::vector<std::string> all = symmetries;
     for (const HalfTurnSymmetry& symmetry : hb.symmetries_found) all.push_back(symmetry.description);

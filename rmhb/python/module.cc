@@ -138,7 +138,7 @@ std::string ToJson(const Solution& self) {
   out.update(PhysicalJson(self.summary));
   if (self.summary.solution) out.update(SolutionJson(*self.summary.solution));
   if (const std::vector<std::string> added = self.model->DefaultConditions(); !added.empty())
-    out["default_conditions"] = {{"conditions", added}, {"note", self.model->conditions_note}};
+    out["default_conditions"] = DefaultConditionsJson(added, self.model->conditions_note);
   return out.dump();
 }
 
