@@ -141,15 +141,16 @@ std::vector<std::string> DefaultConditions(const model::ModelDefinition& definit
     return phase;
   }
   const double closest = ClosestReturn(p);
-  char number[32];
+  char number[32], bound[16];
   std::snprintf(number, sizeof number, "%.2g", closest);
+  std::snprintf(bound, sizeof bound, "%.0e", kClosedOrbit);
   if (closest <= kClosedOrbit) {
     *note = std::string("default: the orbit through initial_state, which the trajectory returns to within ") +
-            number + ": a family of orbits, amplitude and phase fixed";
+            number + " (relative, <= " + bound + "): a family of orbits, amplitude and phase fixed";
     return OrbitThroughInitialState(definition, p);
   }
   *note = "default: the phase only, the trajectory from initial_state " +
-          (std::isfinite(closest) ? "returning no closer than " + std::string(number) + " to it"
+          (std::isfinite(closest) ? "returning no closer than " + std::string(number) + " to it (relative, > " + bound + ")"
                                   : std::string("not returning to it")) +
           ": no periodic orbit through it (one the motion approaches, or none)";
   return phase;  // every variable of an ODE model is differential: the first has x'.
