@@ -96,6 +96,10 @@ class CollocationResidual : public NonlinearProblem {
   int num_full_residuals() const { return full_residuals_; }
   // Variables eliminated by condensation (0 when off or nothing matched).
   int num_condensed_variables() const { return num_condensed_; }
+  // True when Evaluate goes through the sampled maps below (small problem of
+  // known frequencies); the general path otherwise. For tests and reports.
+  bool uses_sampled_maps() const { return sampled_maps_eligible_; }
+  void DisableSampledMaps() { sampled_maps_eligible_ = false; }
 
  private:
   struct CompiledTerm {
@@ -151,6 +155,21 @@ class CollocationResidual : public NonlinearProblem {
   void PointValues(const Eigen::VectorXd& X, const std::vector<double>& rates, Eigen::VectorXd* z,
                    Eigen::VectorXd* dz) const;
   void SetUpLinearAlgebra();
+  // Small problems of known frequencies (METHOD.md s.21): with w fixed, the
+  // samples of every slot are a linear map A_s of the solver's x (layout,
+  // symmetries, condensation and derivative rates folded in), and the rows
+  // of equation i a linear map Q_i of its samples. F = sum_i Q_i g_i(A x) and
+  // J = sum_i Q_i sum_s diag(dg_i/dz_s) A_s are then a few small dense
+  // products, with none of the general path's per-column bookkeeping: at the
+  // Monte Carlo's 7 unknowns that bookkeeping was most of an evaluation.
+  // The maps are built by passing unit vectors through the general path's
+  // own steps, so both paths are the same linear algebra, and rebuilt when
+  // the problem's frequencies change (continuation in w retunes them).
+  void BuildSampledMaps();
+  bool EvaluateSampled(const Eigen::VectorXd& x, Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian);
+  // proj_ = the rows of equation i (C_ entries, zeros where a symmetry drops
+  // a harmonic) from its samples.
+  void ProjectEquation(size_t i, const double* samples);
   int FrequencyColumn(int base) const { return frequency_column_ + unknown_index_[base]; }
   // The reduced vector on the full unknowns (x itself without symmetries):
   // the condensed layout when condensing.
@@ -230,6 +249,19 @@ class CollocationResidual : public NonlinearProblem {
   // The same as coefficient indices (0 .. C_ - 1), for the transforms.
   std::vector<std::vector<int>> row_coefficients_, column_coefficients_;
   double density_ = 1;
+  // Beyond it a sample's highest power overflows: not an admissible point.
+  double overflow_bound_ = 0;
+  bool sampled_maps_eligible_ = false;
+  struct SampledMaps {
+    std::vector<double> frequencies;        // the maps hold at these
+    std::vector<Eigen::MatrixXd> slot;      // A_s: M x num_unknowns
+    // Q_i: equation i's rows (reduced, contiguous from equation_row[i]) x M;
+    // empty when condensed away.
+    std::vector<Eigen::MatrixXd> equation;
+    std::vector<int> equation_row;
+    Eigen::MatrixXd weighted;               // work: sum_s diag(dg_i/dz_s) A_s
+  };
+  SampledMaps maps_;
 };
 
 }  // namespace rmhb

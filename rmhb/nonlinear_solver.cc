@@ -177,7 +177,12 @@ class Jacobian {
   Equilibration scaling_;
 };
 
-double MaxAbs(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+// Of an expression too, without a temporary vector: the Monte Carlo's small
+// solves called it with products and quotients several times an iteration.
+template <class Derived>
+double MaxAbs(const Eigen::MatrixBase<Derived>& v) {
+  return v.size() ? v.cwiseAbs().maxCoeff() : 0.0;
+}
 
 bool Finite(const Eigen::VectorXd& v) { return v.allFinite(); }
 

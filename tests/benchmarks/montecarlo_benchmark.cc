@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   options.solve.order = order;
   options.threads = threads;
   options.seed = seed;
+  if (argc > 5) options.solve.solver.method = ParseSolverMethod(argv[5]);
   const integrators::OdeSystem ode{2, e.original.rhs};
   options.original_check = [&](const HarmonicSolution& s) {
     const integrators::FloquetReport f =

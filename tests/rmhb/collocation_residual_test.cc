@@ -112,6 +112,68 @@ TEST(CollocationResidual, CondensationWithSymmetryHalvesTheCondensedProblem) {
   EXPECT_LT(SolutionDifference(*symmetric.solution, *full.solution), 1e-13);
 }
 
+// The sampled maps of small known-frequency problems (METHOD.md s.21)
+// against the general path on the same point: condensed or not, aliased
+// (HDHB) or not, under a symmetry, and after the frequency is retuned (a
+// continuation in w changes the problem under the residual).
+void CheckSampledMaps(examples::ExampleSetup e, int order, int samples, bool condense) {
+  const HarmonicBasis basis = HarmonicBasis::Periodic(order);
+  CollocationResidual maps(e.problem, basis, Sampling::Uniform(samples), condense);
+  CollocationResidual general(e.problem, basis, Sampling::Uniform(samples), condense);
+  general.DisableSampledMaps();
+  ASSERT_TRUE(maps.uses_sampled_maps()) << maps.num_unknowns() << " unknowns";
+  ASSERT_FALSE(general.uses_sampled_maps());
+  const HarmonicSolution g = e.guess.OnBasis(basis);
+  Eigen::VectorXd x = maps.Pack(g.coefficients(), g.frequencies());
+  for (int i = 0; i < x.size(); ++i) x(i) += 0.3 * std::sin(2.0 * i + 1);
+  Eigen::VectorXd before;
+  for (double w : {e.problem.frequencies[0], 0.7 * e.problem.frequencies[0]}) {
+    e.problem.frequencies[0] = w;
+    Eigen::VectorXd F1, F2;
+    Eigen::MatrixXd J1, J2;
+    ASSERT_TRUE(maps.Evaluate(x, &F1, &J1));
+    ASSERT_TRUE(general.Evaluate(x, &F2, &J2));
+    ASSERT_EQ(F1.size(), F2.size());
+    ASSERT_EQ(J1.rows(), J2.rows());
+    ASSERT_EQ(J1.cols(), J2.cols());
+    const double scale = 1 + J2.cwiseAbs().maxCoeff();
+    EXPECT_LT((F1 - F2).cwiseAbs().maxCoeff(), 1e-13 * scale) << "w = " << w;
+    EXPECT_LT((J1 - J2).cwiseAbs().maxCoeff(), 1e-13 * scale) << "w = " << w;
+    Eigen::VectorXd F3;
+    ASSERT_TRUE(maps.Evaluate(x, &F3, nullptr));
+    EXPECT_EQ(F3, F1);
+    if (before.size()) {
+      EXPECT_GT((F1 - before).cwiseAbs().maxCoeff(), 1e-3);  // retuned, not stale
+    }
+    before = F1;
+  }
+  // Samples whose cube overflows: not admissible, on either path.
+  const Eigen::VectorXd huge = Eigen::VectorXd::Constant(x.size(), 1e120);
+  Eigen::VectorXd F1, F2;
+  EXPECT_FALSE(maps.Evaluate(huge, &F1, nullptr));
+  EXPECT_FALSE(general.Evaluate(huge, &F2, nullptr));
+  EXPECT_TRUE(std::isinf(F1(0)));
+}
+
+TEST(CollocationResidual, SampledMapsAgreeWithTheGeneralPath) {
+  CheckSampledMaps(examples::BuildExample("duffing"), 3, 14, true);   // RHB, the Monte Carlo's
+  CheckSampledMaps(examples::BuildExample("duffing"), 3, 7, true);    // HDHB, aliased
+  CheckSampledMaps(examples::BuildExample("duffing"), 3, 14, false);  // x and v both unknown
+  CheckSampledMaps(examples::BuildExample("rayleigh-plesset"), 3, 16, true);  // recast, time terms
+  examples::ExampleSetup odd = examples::BuildExample("duffing");
+  odd.problem.symmetries = {HalfTurnSymmetry{{1}, {-1, -1}, "odd"}};
+  CheckSampledMaps(odd, 9, 40, true);  // 10 unknowns of 19
+}
+
+TEST(CollocationResidual, SampledMapsOnlyForSmallKnownFrequencyProblems) {
+  const examples::ExampleSetup duffing = examples::BuildExample("duffing");
+  EXPECT_FALSE(CollocationResidual(duffing.problem, HarmonicBasis::Periodic(10), Sampling::Uniform(41), true)
+                   .uses_sampled_maps());  // 21 unknowns
+  const examples::ExampleSetup vanderpol = examples::BuildExample("vanderpol");
+  EXPECT_FALSE(CollocationResidual(vanderpol.problem, HarmonicBasis::Periodic(3), Sampling::Uniform(13), true)
+                   .uses_sampled_maps());  // unknown frequency and a point condition
+}
+
 TEST(CollocationResidual, SizesCountDroppedBalancesAndConditions) {
   examples::ExampleSetup e = examples::BuildExample("pendulum");
   CollocationResidual r(e.problem, HarmonicBasis::Periodic(10), Sampling::Uniform(40));
