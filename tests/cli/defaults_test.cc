@@ -144,6 +144,36 @@ TEST(Defaults, RelaxationOscillationFromAUsersFile) {
   std::remove(model.c_str());
 }
 
+// FitzHugh-Nagumo as a user writes it: two first-order equations, no guess
+// (first-order variables get none: the zero start finds the rest point, and
+// the identified start takes over), no conditions (the trajectory from
+// initial_state does not return to it: the phase v'(0) = 0). A slow-fast
+// cycle of period ~39 that needs order ~170 for 1e-10. Against CVODE's period
+// between upward crossings of v = 0.3.
+TEST(Defaults, FirstOrderSystemWithNothingButInitialState) {
+  const std::string model = WriteModel("fhn", "variables: [v, r]\nparameters: {a: 0.7, b: 0.8, eps: 0.08, I: 0.5}\n"
+                                              "equations:\n  - \"v' = v - v^3/3 - r + I\"\n"
+                                              "  - \"r' = eps*(v + a - b*r)\"\n"
+                                              "frequencies: [{guess: 0.2}]\ninitial_state: {v: 1, r: 0}\n");
+  const auto j = Json("solve " + model + " --json");
+  ASSERT_EQ(j["status"], "converged") << j.dump();
+  EXPECT_EQ(j["start"], "identification");
+  ASSERT_EQ(j["default_conditions"]["conditions"].size(), 1u) << j.dump();
+  EXPECT_EQ(j["default_conditions"]["conditions"][0], "v'(0) = 0");
+  EXPECT_LT(j["order_selection"]["estimate"].get<double>(), 1e-10);
+
+  const Model loaded = LoadModel(model);
+  integrators::IntegratorOptions tight;
+  tight.relative_tolerance = 1e-13;
+  tight.absolute_tolerance = 1e-15;
+  // 0.3 lies inside the cycle's range of v (about -1.9 to 1.9).
+  const double period = integrators::LimitCyclePeriod(loaded.original(loaded.problem.frequencies),
+                                                      loaded.initial_state, 1200,
+                                                      [](double, const double* y) { return y[0] - 0.3; }, +1, 10, tight);
+  EXPECT_NEAR(2 * M_PI / Frequency(j), period, 1e-9 * period);
+  std::remove(model.c_str());
+}
+
 // A DAE (no default conditions: the closure test integrates ODEs) without
 // conditions is refused up front with what to add, exit 2; it used to climb
 // to order 100 and end "underdetermined".
