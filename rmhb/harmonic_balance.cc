@@ -762,8 +762,8 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   // anyway (no dense J), so there it is asked for by name.
   const bool krylov_beyond = decay == DecayModel::kAlgebraic && options.solver.linear_solver == LinearSolver::kAuto;
   auto fit = [&](int order) { return krylov_beyond || dense_fits(order); };
-  while (!current.converged() && 2 * o.order <= options.max_order && fit(2 * o.order) &&
-         tried.size() < 4) {
+  while (options.raise_order_on_failure && !current.converged() && 2 * o.order <= options.max_order &&
+         fit(2 * o.order) && tried.size() < 4) {
     o.order *= 2;
     lower.reset();
     current = SolveWithContinuation(problem, initial_guess, o, &lower);

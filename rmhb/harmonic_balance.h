@@ -102,6 +102,10 @@ struct HarmonicBalanceOptions {
   // max_order (for the adaptive index set: the reach max |k|_1) leaves the
   // solve converged, with the estimate and why in the message.
   bool soft_tolerance = false;
+  // Order selection: when the solve at `order` fails, try 2x, 4x, 8x it
+  // from the same guess before giving up (too low an order can have no
+  // solution near the physical one: the pendulum near its separatrix).
+  bool raise_order_on_failure = true;
   int max_order = 5000;
   SolverOptions solver;
   // After a converged solve: is it an oscillation of the original equations?

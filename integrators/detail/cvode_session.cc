@@ -6,9 +6,11 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <exception>
 #include <string>
 
@@ -213,8 +215,27 @@ int CvodeSession::Advance(double tout, double* t_reached) {
                " steps is used up";
     return CV_TOO_MUCH_WORK;
   }
-  CVodeSetMaxNumSteps(mem_.get(), remaining);
-  const int flag = CVode(mem_.get(), tout, y_.get(), t_reached, CV_NORMAL);
+  // In chunks of steps, so that a step size stuck at the round-off of t is
+  // seen: near a singularity the solution cannot pass (1/(1 - x)^2 as x -> 1,
+  // a MEMS plate's pull-in) CVODE keeps taking steps t + h = t and only the
+  // budget stops it, 10^7 steps and 16 s later.
+  constexpr long kChunk = 100'000;
+  int flag = CV_TOO_MUCH_WORK;
+  for (long left = remaining; left > 0 && flag == CV_TOO_MUCH_WORK; left -= kChunk) {
+    CVodeSetMaxNumSteps(mem_.get(), std::min(left, kChunk));
+    flag = CVode(mem_.get(), tout, y_.get(), t_reached, CV_NORMAL);
+    if (flag != CV_TOO_MUCH_WORK) break;
+    double t_current = *t_reached, h_last = 0;
+    CVodeGetCurrentTime(mem_.get(), &t_current);
+    CVodeGetLastStep(mem_.get(), &h_last);
+    if (std::abs(h_last) <= 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t_current))) {
+      char where[96];
+      std::snprintf(where, sizeof(where), "|h| = %.3g at t = %.17g", std::abs(h_last), t_current);
+      failure_ = FlagName(CV_TOO_MUCH_WORK) + ": the step size fell to the round-off of t (" + where +
+                 "): the solution is singular there (a blow-up, a pole of the right-hand side)";
+      return CV_TOO_MUCH_WORK;
+    }
+  }
   if (flag < 0) {
     double t_current = *t_reached;
     CVodeGetCurrentTime(mem_.get(), &t_current);

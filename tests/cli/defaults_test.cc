@@ -174,6 +174,49 @@ TEST(Defaults, FirstOrderSystemWithNothingButInitialState) {
   std::remove(model.c_str());
 }
 
+// A forced pendulum file without a guess: the zero start fails at the start
+// order, and the motion settled from rest is tried before raising the order
+// from the zero start (which cost 1.5 s and failed). The same response as
+// the benchmark's file with a hand guess near it, and the original equations
+// integrated by CVODE from the solution's state stay on it.
+TEST(Defaults, ForcedFileWithoutAGuessStartsFromTheSettledMotion) {
+  const std::string model = WriteModel("fpend", "variables: [th]\nequations:\n"
+                                                "  - \"th'' + 0.1*th' + sin(th) = 0.5*cos(0.8*t)\"\n"
+                                                "frequencies: [0.8]\n");
+  const auto j = Json("solve " + model + " --validate --json");
+  ASSERT_EQ(j["status"], "converged") << j.dump();
+  EXPECT_EQ(j["start"].get<std::string>().rfind("simulation", 0), 0u) << j["start"];
+  EXPECT_EQ(j["validation"]["status"], "ok");
+  EXPECT_LT(j["validation"]["relative_error"].get<double>(), 1e-10);
+  const auto hand = Json("solve tests/benchmarks/peers/models/forced-pendulum.yaml --json");
+  ASSERT_EQ(hand["status"], "converged");
+  for (const char* part : {"cos", "sin"})
+    for (int k = 1; k <= 3; ++k)
+      EXPECT_NEAR(j["coefficients"]["th"][part][k].get<double>(), hand["coefficients"]["th"][part][k].get<double>(),
+                  1e-10)
+          << part << k;
+  std::remove(model.c_str());
+}
+
+// A MEMS plate past pull-in: V / (1 - x)^2 has no equilibrium to oscillate
+// about, the motion from rest reaches x = 1 at t = 2.716 (x' -> infinity).
+// Refused with the residual and why, exit 3, instead of 10^7 integrator
+// steps at the singularity and raised orders from the guess (24 s).
+TEST(Defaults, APullInIsReportedNotSearched) {
+  const std::string model = WriteModel("pullin", "variables: [x]\nparameters: {V: 0.2, W: 0.9}\nequations:\n"
+                                                 "  - \"x'' + 0.02*x' + x = V/(1 - x)^2 * (1 + 0.5*cos(W*t))\"\n"
+                                                 "frequencies: [W]\n");
+  const auto r = Cli("solve " + model + " --json");
+  EXPECT_EQ(r.code, 3) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["status"], "not_converged");
+  const std::string note = j["start_note"];
+  EXPECT_NE(note.find("singular there"), std::string::npos) << note;
+  EXPECT_NE(note.find("the motion escapes"), std::string::npos) << note;
+  EXPECT_NE(note.find("at t = 2.71"), std::string::npos) << note;
+  std::remove(model.c_str());
+}
+
 // A DAE (no default conditions: the closure test integrates ODEs) without
 // conditions is refused up front with what to add, exit 2; it used to climb
 // to order 100 and end "underdetermined".

@@ -286,6 +286,28 @@ TEST(IntegrateOde, MaxStepsIsABudgetForTheWholeCall) {
   EXPECT_NE(result.BriefReport().find("failure"), std::string::npos);
 }
 
+// x'' = a / (1 - x)^2 from rest (a MEMS plate past pull-in): x reaches 1 at
+// T = pi / (2 sqrt(2 a)) with x' -> infinity, and CVODE's step falls to the
+// round-off of t there. It used to keep taking steps t + h = t until the
+// 10^7-step budget (16 s); now it stops within one chunk of 10^5 steps,
+// saying why and where.
+TEST(IntegrateOde, AStepStuckAtTheRoundOffOfTStopsEarly) {
+  constexpr double a = 0.2;
+  OdeSystem pull_in;
+  pull_in.dimension = 2;
+  pull_in.rhs = [](double, const double* y, double* ydot) {
+    ydot[0] = y[1];
+    ydot[1] = a / ((1 - y[0]) * (1 - y[0]));
+  };
+  const IntegrationResult result = IntegrateOde(pull_in, Vec({0, 0}), 0.0, {3.0}, IntegratorOptions{});
+  ASSERT_FALSE(result.ok());
+  EXPECT_THAT(result.message, HasSubstr("round-off of t"));
+  EXPECT_LE(result.steps, 200'000);
+  const double T = kPi / (2 * std::sqrt(2 * a));
+  const double stopped = std::stod(result.message.substr(result.message.find("at t = ") + 7));
+  EXPECT_NEAR(stopped, T, 1e-6 * T);
+}
+
 TEST(IntegrateOde, MaxStepLimitsTheStepSize) {
   IntegratorOptions options;
   options.max_step = 0.01;
