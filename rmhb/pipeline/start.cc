@@ -79,9 +79,12 @@ Eigen::VectorXd SettledState(const Model& model, const StartOptions& start, int*
     }
     y = s.row(kChunk).transpose();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-    if (seconds > start.max_seconds)
-      throw std::runtime_error("the motion did not settle within " + std::to_string(start.max_seconds) + " s (" +
+    if (seconds > start.max_seconds) {
+      char budget[32];
+      std::snprintf(budget, sizeof budget, "%g s", start.max_seconds);
+      throw std::runtime_error("the motion did not settle within " + std::string(budget) + " (" +
                                std::to_string(done + kChunk) + " periods): not periodic at this forcing?");
+    }
   }
   throw std::runtime_error("the motion did not settle within " + std::to_string(start.max_periods) +
                            " periods: not periodic at this forcing?");
