@@ -10,8 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <limits>
 #include <exception>
+#include <limits>
 #include <string>
 
 namespace rmhb::integrators::detail {
