@@ -35,15 +35,16 @@ std::string WriteModel(const std::string& name, const std::string& text) {
 double Frequency(const nlohmann::json& j) { return j["frequencies"][0].get<double>(); }
 
 // The limit cycle's period from the file's initial_state: CVODE at rtol
-// 1e-13, the mean spacing of x's upward zero crossings over [0, t_end] after
-// `transient` of them.
-double CvodePeriod(const std::string& model_path, double t_end, int transient) {
+// 1e-13, the mean spacing of the first variable's upward crossings of
+// `level` over [0, t_end] after `transient` of them.
+double CvodePeriod(const std::string& model_path, double t_end, int transient, double level = 0) {
   const Model model = LoadModel(model_path);
   integrators::IntegratorOptions tight;
   tight.relative_tolerance = 1e-13;
   tight.absolute_tolerance = 1e-15;
   return integrators::LimitCyclePeriod(model.original(model.problem.frequencies), model.initial_state, t_end,
-                                       [](double, const double* y) { return y[0]; }, +1, transient, tight);
+                                       [level](double, const double* y) { return y[0] - level; }, +1, transient,
+                                       tight);
 }
 
 // A hardening Duffing oscillator released at rest from A = 1: its orbits form
@@ -162,14 +163,8 @@ TEST(Defaults, FirstOrderSystemWithNothingButInitialState) {
   EXPECT_EQ(j["default_conditions"]["conditions"][0], "v'(0) = 0");
   EXPECT_LT(j["order_selection"]["estimate"].get<double>(), 1e-10);
 
-  const Model loaded = LoadModel(model);
-  integrators::IntegratorOptions tight;
-  tight.relative_tolerance = 1e-13;
-  tight.absolute_tolerance = 1e-15;
   // 0.3 lies inside the cycle's range of v (about -1.9 to 1.9).
-  const double period = integrators::LimitCyclePeriod(loaded.original(loaded.problem.frequencies),
-                                                      loaded.initial_state, 1200,
-                                                      [](double, const double* y) { return y[0] - 0.3; }, +1, 10, tight);
+  const double period = CvodePeriod(model, 1200, 10, 0.3);
   EXPECT_NEAR(2 * M_PI / Frequency(j), period, 1e-9 * period);
   std::remove(model.c_str());
 }
