@@ -7,7 +7,9 @@
 // distance of a physical cluster to its alias-free reference solve, and the
 // largest difference between Hill's and the CVODE monodromy's multipliers.
 //
-//   build/tests/benchmarks/montecarlo_benchmark [starts=10000] [order=3] [threads=0] [seed=1]
+//   build/tests/benchmarks/montecarlo_benchmark [starts=10000] [order=3] [threads=0] [seed=1] [solver=auto]
+// (solver: auto, newton, lm, tikhonov; the census with another solver, as
+// the README's "tried and not kept" measured).
 
 #include <algorithm>
 #include <chrono>
