@@ -64,6 +64,35 @@ TEST(Start, SaysWhyWhenNothingWorks) {
   EXPECT_THROW(SolveFromAnyStart(model, GuessAtOrder(model, 15), options, StartOptions{0, 10, 1}), std::invalid_argument);
 }
 
+// The forced pendulum at W = 0.8 from rest (no guess): the zero start fails
+// at order 25, and at 2x (here capped at 50) too; raise_order_on_failure
+// decides whether the second is tried. The automatic start, which now
+// tries the settled motion before the raised orders (a change of cost, not
+// of result, here), ends on the settled motion, a true orbit.
+TEST(Start, AForcedGuessIsNotRaisedBeforeTheSettledMotionIsTried) {
+  const Model model = LoadModel("tests/pipeline/models/forced-pendulum.yaml");
+  HarmonicBalanceOptions options;
+  options.order = 25;
+  options.tolerance = 1e-10;
+  options.soft_tolerance = true;
+  options.max_order = 50;
+  const HarmonicSolution guess = GuessAtOrder(model, 25);
+  const HarmonicBalanceSummary raised = SolveHarmonicBalance(model.problem, guess, options);
+  EXPECT_FALSE(raised.converged());
+  EXPECT_EQ(raised.orders_tried, (std::vector<int>{25, 50}));
+  HarmonicBalanceOptions once = options;
+  once.raise_order_on_failure = false;
+  EXPECT_EQ(SolveHarmonicBalance(model.problem, guess, once).orders_tried, (std::vector<int>{25}));
+
+  const StartedSolve s = SolveFromAnyStart(model, guess, options);
+  ASSERT_TRUE(s.summary.usable()) << s.note;
+  EXPECT_EQ(s.route.rfind("simulation", 0), 0u) << s.route;
+  EXPECT_EQ(s.note.find("raised orders"), std::string::npos) << s.note;  // the last resort was not needed
+  const integrators::ValidationReport v = ValidateOriginal(model, *s.summary.solution, 2 * M_PI / 0.8);
+  ASSERT_TRUE(v.ok) << v.message;
+  EXPECT_LT(v.max_error, 1e-8);
+}
+
 }  // namespace
 }  // namespace rmhb
 
