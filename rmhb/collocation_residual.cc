@@ -617,6 +617,12 @@ void CollocationResidual::EvaluateSamples(const CompiledEquation& eq, int slot, 
   }
 }
 
+bool CollocationResidual::SamplesAdmissible() const {
+  double largest = 0;
+  for (const Eigen::VectorXd& z : slot_samples_) largest = std::max(largest, z.cwiseAbs().maxCoeff());
+  return largest <= overflow_bound_;
+}
+
 void CollocationResidual::ProjectEquation(size_t i, const double* samples) {
   // Rows a symmetry drops: zeros (their harmonics vanish on symmetric x).
   if (row_coefficients_.empty()) return transform_->Project(samples, proj_.data());
@@ -662,12 +668,8 @@ void CollocationResidual::BuildSampledMaps() {
 bool CollocationResidual::EvaluateSampled(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                           Eigen::MatrixXd* jacobian) {
   if (maps_.frequencies != problem_.frequencies) BuildSampledMaps();
-  double largest = 0;
-  for (size_t s = 0; s < slots_.size(); ++s) {
-    slot_samples_[s].noalias() = maps_.slot[s] * x;
-    largest = std::max(largest, slot_samples_[s].cwiseAbs().maxCoeff());
-  }
-  if (!(largest <= overflow_bound_)) {  // as EvaluateFull
+  for (size_t s = 0; s < slots_.size(); ++s) slot_samples_[s].noalias() = maps_.slot[s] * x;
+  if (!SamplesAdmissible()) {
     residual->setConstant(num_residuals_, INFINITY);
     return false;
   }
@@ -817,9 +819,7 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
   // admissible point (a guess at 1.8e308: Rayleigh-Plesset without gas
   // pressure). FFTW's butterflies happened to turn them into inf; the dense
   // transforms do not, so it is said here on purpose.
-  double largest = 0;
-  for (const Eigen::VectorXd& z : slot_samples_) largest = std::max(largest, z.cwiseAbs().maxCoeff());
-  if (!(largest <= overflow_bound_)) {
+  if (!SamplesAdmissible()) {
     residual->setConstant(full_residuals_, INFINITY);
     return false;
   }

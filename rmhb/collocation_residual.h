@@ -167,6 +167,9 @@ class CollocationResidual : public NonlinearProblem {
   // the problem's frequencies change (continuation in w retunes them).
   void BuildSampledMaps();
   bool EvaluateSampled(const Eigen::VectorXd& x, Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian);
+  // The slot samples' highest power is finite (every sample below
+  // overflow_bound_): an admissible point for either path.
+  bool SamplesAdmissible() const;
   // proj_ = the rows of equation i (C_ entries, zeros where a symmetry drops
   // a harmonic) from its samples.
   void ProjectEquation(size_t i, const double* samples);

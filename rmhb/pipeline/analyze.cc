@@ -421,16 +421,17 @@ void ReportSolve(const AnalyzeSummary& s, Stages* out) {
   const int bases = static_cast<int>(s.problem.frequencies.size());
   const int unknowns =
       summary.solution ? summary.solution->num_variables() * summary.solution->basis().num_coefficients() : 0;
+  const int order = summary.order > 0 ? summary.order : options.order;  // where order selection ended
   json& solve = out->stages["solve"];
   solve = {{"seconds", summary.seconds}, {"status", converged ? "converged" : ToString(summary.solver.status)},
            {"iterations", summary.solver.iterations}, {"residual", JsonNumber(summary.solver.final_residual)},
            {"method", ToString(options.rule)}, {"solver", ToString(summary.solver.method)},
-           {"order", summary.order > 0 ? summary.order : options.order}, {"harmonics", summary.solution ? summary.solution->basis().size() : 0},
+           {"order", order}, {"harmonics", summary.solution ? summary.solution->basis().size() : 0},
            {"coefficients", unknowns}, {"alias_free", summary.alias_free}, {"degree", summary.degree},
            {"samples", summary.samples.size() == 1 ? json(summary.samples[0]) : json(summary.samples)}};
   out->lines.push_back(StringPrintf("%-10s %9.1f ms  %s %s order %d: %s after %d iterations, max|F| %.3e", "solve",
                               summary.seconds * 1e3, bases == 1 ? "RHB" : "RMHB", ToString(options.rule),
-                              summary.order > 0 ? summary.order : options.order, converged ? "converged" : "NOT converged", summary.solver.iterations,
+                              order, converged ? "converged" : "NOT converged", summary.solver.iterations,
                               summary.solver.final_residual));
   solve.update(PhysicalJson(summary));
   if (converged) out->lines.push_back("physical" + std::string(17, ' ') + PhysicalLine(summary));
