@@ -127,7 +127,9 @@ StabilitySummary TorusStabilityFrom(const HarmonicBalanceProblem& problem, const
   }
   s.floquet_note = "a torus has no period, so no monodromy matrix: Lyapunov exponents instead";
   s.lyapunov = std::move(lyapunov);
-  if (s.lyapunov->ok) s.lyapunov_verdict = FromPointStability(s.lyapunov->stability);
+  // A failed integration still judges when the trajectory left the torus first.
+  if (s.lyapunov->ok || s.lyapunov->stability == PointStability::kUnstable)
+    s.lyapunov_verdict = FromPointStability(s.lyapunov->stability);
   const bool lyapunov_ok = s.lyapunov->ok && s.lyapunov_verdict != StabilityVerdict::kUnknown;
   // A trajectory that left the torus has exponents of where it went.
   const bool on_torus = s.lyapunov->departure <= TorusStabilityReport::kLeftTorus;
@@ -149,7 +151,8 @@ StabilitySummary TorusStabilityFrom(const HarmonicBalanceProblem& problem, const
 
 bool StabilitySummary::agree() const {
   if (!torus()) return hill_verdict == floquet_verdict;
-  if (!hill || !lyapunov->ok) return false;
+  // No exponents but a trajectory that left the torus is still a verdict.
+  if (!hill || !(lyapunov->ok || lyapunov_verdict != StabilityVerdict::kUnknown)) return false;
   return hill_verdict == lyapunov_verdict ||
          (lyapunov_verdict == StabilityVerdict::kNeutral && std::abs(hill->max_real_part) <= lyapunov->tolerance);
 }

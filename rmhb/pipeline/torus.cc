@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "integrators/cvode_integrator.h"
 #include "integrators/lyapunov.h"
 #include "rmhb/branch_switching.h"
 
@@ -32,20 +33,38 @@ bool OnRim(const HarmonicBasis& basis, std::vector<int> k) {
 }
 
 // How far the integrated trajectory got from the torus it started on.
-void MeasureDeparture(const Model& model, const HarmonicSolution& torus, const integrators::LyapunovReport& r,
-                      double segment, TorusStabilityReport* out) {
+// states.row(i) is the trajectory at times[i].
+void MeasureDeparture(const Model& model, const HarmonicSolution& torus, const Eigen::MatrixXd& states,
+                      const std::vector<double>& times, TorusStabilityReport* out) {
   double size = 0;
   std::vector<Eigen::VectorXd> on_torus;
-  for (long i = 0; i < r.segment_states.rows(); ++i) {
-    on_torus.push_back(model.state(torus, (i + 1) * segment));
+  for (long i = 0; i < states.rows(); ++i) {
+    on_torus.push_back(model.state(torus, times[i]));
     size = std::max(size, on_torus.back().cwiseAbs().maxCoeff());
   }
-  for (long i = 0; i < r.segment_states.rows(); ++i) {
-    const double d = (r.segment_states.row(i).transpose() - on_torus[i]).cwiseAbs().maxCoeff() / std::max(size, 1e-300);
+  for (long i = 0; i < states.rows(); ++i) {
+    const double d = (states.row(i).transpose() - on_torus[i]).cwiseAbs().maxCoeff() / std::max(size, 1e-300);
     if (d > TorusStabilityReport::kLeftTorus && out->departure <= TorusStabilityReport::kLeftTorus)
-      out->left_at = (i + 1) * segment;
+      out->left_at = times[i];
     out->departure = std::max(out->departure, d);
   }
+}
+
+// The variational integration failed. From a repelling torus the trajectory
+// may run off to infinity within one segment (Rayleigh's oscillator reversed
+// in time: 5 % off the torus at a segment end, a non-finite right-hand side
+// before the next), so the segment ends alone need not show that it left.
+// The state alone again, seen eight times per segment up to the failure.
+void DepartureBeforeFailure(const Model& model, const HarmonicSolution& torus, const integrators::OdeSystem& system,
+                            const integrators::LyapunovOptions& lyapunov, double failed_at,
+                            TorusStabilityReport* out) {
+  std::vector<double> times;
+  const double step = lyapunov.segment / 8;
+  for (double t = step; t < failed_at + lyapunov.segment; t += step) times.push_back(t);
+  const integrators::IntegrationResult plain =
+      integrators::IntegrateOde(system, model.state(torus, 0.0), 0.0, times, lyapunov.integrator);
+  const std::vector<double> reached(times.begin(), times.begin() + plain.trajectory.states.rows());
+  MeasureDeparture(model, torus, plain.trajectory.states, reached, out);
 }
 
 }  // namespace
@@ -117,11 +136,21 @@ TorusStabilityReport TorusStability(const Model& model, const HarmonicSolution& 
   out.seconds = r.seconds;
   if (!r.ok) {
     out.message = "integration failed: " + r.message;
+    DepartureBeforeFailure(model, torus, system, lyapunov, r.time, &out);
+    if (out.departure > TorusStabilityReport::kLeftTorus) {
+      char text[160];
+      std::snprintf(text, sizeof text, "the trajectory left the torus (|y - torus| %.2g of its size at t = %.4g): it repels; ",
+                    out.departure, out.left_at);
+      out.message = text + out.message;
+      out.stability = PointStability::kUnstable;
+    }
     return out;
   }
   out.exponents = r.exponents;
   out.spread = r.spread;
-  MeasureDeparture(model, torus, r, lyapunov.segment, &out);
+  std::vector<double> ends;
+  for (long i = 0; i < r.segment_states.rows(); ++i) ends.push_back((i + 1) * lyapunov.segment);
+  MeasureDeparture(model, torus, r.segment_states, ends, &out);
   out.tolerance = std::max(options.tolerance * w_min, 3 * r.spread);
   // The free angles: the unknown bases (a forced torus' angle along the
   // forcing is time itself, not a state direction).
