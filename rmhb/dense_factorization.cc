@@ -124,6 +124,14 @@ double DenseLu::rcond() const {
 
 Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const { return Solve(b, "N"); }
 
+void DenseLu::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
+  if (!use_small_ || singular_ || b.size() != small_.matrixLU().rows()) {
+    *x = Solve(b, "N");
+    return;
+  }
+  *x = small_.solve(b);
+}
+
 Eigen::VectorXd DenseLu::solve_transposed(const Eigen::VectorXd& b) const { return Solve(b, "T"); }
 
 Eigen::VectorXd DenseLu::Solve(const Eigen::VectorXd& b, const char* trans) const {

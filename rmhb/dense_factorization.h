@@ -69,6 +69,9 @@ class DenseLu {
   // x with A x = b; every entry NaN when A is exactly singular (a zero pivot),
   // which the caller sees as a non-finite step.
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  // The same into *x (resized only when its size differs): no allocation
+  // per solve in a Newton loop of small steps.
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const;
   // x with A' x = b, from the same factors (condition estimators need it).
   Eigen::VectorXd solve_transposed(const Eigen::VectorXd& b) const;
   // Reciprocal 1-norm condition estimate (Hager/Higham, dgecon); 0 when
@@ -110,6 +113,9 @@ class DenseQr {
   // The least-squares solution of min |A x - b|; every entry NaN when R has
   // a zero diagonal entry (rank deficient to the last bit).
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  // The same into *x (resized only when its size differs): no allocation
+  // per solve in a Newton loop of small steps.
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const;
   // R in the upper triangle (the Householder vectors below it), as LAPACK
   // and Eigen::HouseholderQR store it.
   const Eigen::MatrixXd& matrixQR() const { return qr_; }

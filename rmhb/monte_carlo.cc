@@ -262,6 +262,7 @@ StartSolves SolveStarts(const HarmonicBalanceProblem& problem, const MonteCarloO
     std::vector<double> seconds(num_rules, 0);
     SolverOptions solver = options.solve.solver;
     if (solver.newton_stall_iterations == 0) solver.newton_stall_iterations = options.newton_stall_iterations;
+    solver.report_condition = false;  // the census reads only the solutions
     for (long j; (j = next.fetch_add(1)) < mine;) {
       const long i = first + j * stride;
       const Eigen::MatrixXd guess = RandomStart(options.seed, i, n, C, options.low, options.high);

@@ -249,15 +249,16 @@ class NewtonFactorization {
   double scaled_reciprocal_condition() const { return Estimate(), scaled_reciprocal_condition_; }
   const Eigen::VectorXd& row() const { return row_; }
   const Eigen::VectorXd& column() const { return column_; }
-  // The scaled Newton step y for the residual F (unscaled).
+  // The scaled Newton step y for the residual F (unscaled), into *y.
   // Krylov: GMRES to the relative `tolerance` (inexact Newton).
-  Eigen::VectorXd Step(const Eigen::VectorXd& F, double tolerance = 0) {
-    const Eigen::VectorXd b = row_.cwiseProduct(F);
-    if (kind_ == LinearSolver::kDense)
-      return square_ ? Eigen::VectorXd(-lu_.solve(b)) : Eigen::VectorXd(-qr_.solve(b));
-    if (sparse_failed_) return Eigen::VectorXd::Constant(b.size(), NAN);
-    if (kind_ == LinearSolver::kSparse) return -sparse_lu_.solve(b);
-    return -KrylovSolve(b, std::max(tolerance, options_.krylov_tolerance));
+  void Step(const Eigen::VectorXd& F, double tolerance, Eigen::VectorXd* y) {
+    b_ = row_.cwiseProduct(F);
+    if (kind_ == LinearSolver::kDense && square_) lu_.solve(b_, y);
+    else if (kind_ == LinearSolver::kDense) *y = qr_.solve(b_);
+    else if (sparse_failed_) y->setConstant(b_.size(), NAN);
+    else if (kind_ == LinearSolver::kSparse) *y = sparse_lu_.solve(b_);
+    else *y = KrylovSolve(b_, std::max(tolerance, options_.krylov_tolerance));
+    *y = -*y;
   }
   // GMRES iterations over every Krylov step so far.
   int linear_iterations() const { return linear_iterations_; }
@@ -351,6 +352,7 @@ class NewtonFactorization {
   Eigen::MatrixXd scratch_;  // J_s before it moves into the factorisation
   mutable double reciprocal_condition_ = 0, scaled_reciprocal_condition_ = 0;
   Eigen::VectorXd row_, column_;
+  Eigen::VectorXd b_;  // Step's scaled right-hand side, kept across steps
   DenseLu lu_;  // LAPACK: 1.4-2.4x faster than Eigen's at large n
   DenseQr qr_;
 };
@@ -560,7 +562,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   bool ever_factored = false;
   auto finish = [&](SolverStatus status, std::string message) {
     // The last factorised Jacobian's condition, also when failing.
-    if (ever_factored && s.reciprocal_condition == 0) {
+    if (options.report_condition && ever_factored && s.reciprocal_condition == 0) {
       s.reciprocal_condition = factorization.reciprocal_condition();
       s.scaled_reciprocal_condition = factorization.scaled_reciprocal_condition();
     }
@@ -668,9 +670,12 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   // The regularised methods' matrices and vectors, kept across iterations.
   struct {
     Eigen::MatrixXd Js, JtJ;
-    Eigen::VectorXd Fs, JtF, y, diagonal;
+    Eigen::VectorXd Fs, JtF, diagonal, weights;
     RegularizedWork work;
   } lm;
+  // The step and the Newton corrections: kept across iterations (no
+  // allocation per iteration).
+  Eigen::VectorXd dx, y, correction;
   double step = 0;  // max|D_c^-1 dx| of the last step
   double best_residual = s.initial_residual;  // max|F|, for newton_stall_iterations
   int since_best = 0;
@@ -683,7 +688,6 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
       --s.iterations;
       return time_up();
     }
-    Eigen::VectorXd dx;
     bool accepted = false;
     double damping = 1.0;
     double trial_norm = norm;
@@ -700,7 +704,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
       // a Krylov step need not be more accurate than the residual is small;
       // quadratic convergence survives with a forcing term ~ |F|.
       const double forcing = std::min(1e-4, norm / residual_scale());
-      Eigen::VectorXd y = factorization.Step(F, forcing);
+      factorization.Step(F, forcing, &y);
       if (!Finite(y)) return finish(SolverStatus::kFailure, "singular Jacobian (Newton step is not finite); try --solver lm");
       // Damping by Deuflhard's natural monotonicity test: accept x + t dx
       // when the simplified Newton correction |J^-1 F(x + t dx)| shrinks by
@@ -719,8 +723,8 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
         ++s.evaluations;
         if (problem.Evaluate(xtrial, &Ftrial, nullptr) && Finite(Ftrial)) {
           // Only the norm of the simplified correction matters: 1e-3 will do.
-          const double simplified =
-              factorization.column().cwiseProduct(factorization.Step(Ftrial, std::max(forcing, 1e-3))).norm();
+          factorization.Step(Ftrial, std::max(forcing, 1e-3), &correction);
+          const double simplified = factorization.column().cwiseProduct(correction).norm();
           if (simplified <= (1 - 0.25 * t) * y_norm) {
             accepted = true;
             dx *= t;
@@ -769,17 +773,16 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
       rescale();
       norm = scaled_norm(F);
       // Row weights for a square system only, as in NewtonFactorization.
-      const Eigen::VectorXd weights = s.num_residuals == s.num_unknowns
-                                          ? scaling.row
-                                          : Eigen::VectorXd::Ones(s.num_residuals);
       // Into storage kept across iterations: no allocation per iteration.
+      if (s.num_residuals == s.num_unknowns) lm.weights = scaling.row;
+      else lm.weights.setOnes(s.num_residuals);
+      const Eigen::VectorXd& weights = lm.weights;
       lm.Js.noalias() = weights.asDiagonal() * J.dense() * scaling.column.asDiagonal();
       lm.Fs = weights.cwiseProduct(F);
       lm.JtJ.noalias() = lm.Js.transpose() * lm.Js;
       lm.JtF.noalias() = lm.Js.transpose() * lm.Fs;
       const Eigen::MatrixXd& JtJ = lm.JtJ;
       const double F_squared = lm.Fs.squaredNorm();
-      Eigen::VectorXd& y = lm.y;
       for (int attempt = 0; attempt < 30 && !accepted; ++attempt) {
         Eigen::VectorXd& diagonal = lm.diagonal;
         if (method == SolverMethod::kLevenbergMarquardt) {
@@ -858,11 +861,11 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
       }
     }
   }
-  if (ever_factored) {
+  if (ever_factored && options.report_condition) {
     s.reciprocal_condition = factorization.reciprocal_condition();
     s.scaled_reciprocal_condition = factorization.scaled_reciprocal_condition();
   }
-  if (s.reciprocal_condition == 0 && J.dense_form() &&
+  if (options.report_condition && s.reciprocal_condition == 0 && J.dense_form() &&
       (method != SolverMethod::kNewton || s.iterations == 0)) {
     // Converged at the start (a warm start from a lower order), or a
     // regularised method that never factorised J itself: J is the final

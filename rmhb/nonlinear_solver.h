@@ -151,7 +151,7 @@ struct SolverOptions {
   // into a cycle (the Duffing Monte Carlo's: max|F| between 3.6 and 5.1 for
   // the remaining 60-90 iterations), while the converging runs of the same
   // 10^4 starts halved it at least every 29 iterations. The Monte Carlo sets
-  // 40 (MonteCarloOptions::newton_stall_iterations).
+  // 20 (MonteCarloOptions::newton_stall_iterations).
   int newton_stall_iterations = 0;
   // The linear solver of Newton's steps and what kAuto decides on (see
   // LinearSolver above; the thresholds are where the README's table of time
@@ -173,6 +173,12 @@ struct SolverOptions {
   // solve that needed more than this many iterations.
   int krylov_rebuild_iterations = 40;
   bool estimate_condition = false;  // costs one SVD of the final Jacobian
+  // The summary's reciprocal_condition and scaled_reciprocal_condition of
+  // the final Jacobian: a dozen O(n^2) solves, and for the regularised
+  // methods one more factorisation. A census of random starts that reads
+  // neither turns them off (0: not computed); at 7 unknowns they were 6 %
+  // of its solves.
+  bool report_condition = true;
   bool verbose = false;
   std::string IsValid() const;  // empty when valid, otherwise what is wrong
 };
