@@ -642,10 +642,11 @@ void CollocationResidual::BuildSampledMaps() {
     for (size_t s = 0; s < slots_.size(); ++s) maps_.slot[s].col(u) = slot_samples_[s];
   }
   // Column t of Q_i: equation i's kept rows for the unit sample e_t.
-  maps_.equation.assign(equations_.size(), Eigen::MatrixXd());
-  maps_.equation_row.assign(equations_.size(), 0);
+  const size_t E = equations_.size();
+  maps_.equation.assign(E, Eigen::MatrixXd());
+  maps_.equation_row.assign(E, 0);
   Eigen::VectorXd sample = Eigen::VectorXd::Zero(M_);
-  for (size_t i = 0; i < equations_.size(); ++i) {
+  for (size_t i = 0; i < E; ++i) {
     const CompiledEquation& eq = equations_[i];
     if (eq.first_row < 0) continue;
     const int skip = eq.balance_constant ? 0 : 1;
@@ -662,34 +663,102 @@ void CollocationResidual::BuildSampledMaps() {
       for (size_t r = 0; r < kept.size(); ++r) Q(static_cast<long>(r), t) = proj_(kept[r]);
     }
   }
+  BuildAffineMaps();
   maps_.weighted.resize(M_, num_unknowns_);
+}
+
+void CollocationResidual::BuildAffineMaps() {
+  // Terms of degree <= 1 (the linear stiffness, damping, inertia, forcing;
+  // time-varying coefficients too) give rows affine in x: Q_i g(A x) of them
+  // is L_i x + b_i, made here once (METHOD.md s.21). Only the nonlinear terms
+  // are sampled at each evaluation, and only their slots: the forced
+  // Duffing's x'' + c x' + k x - F cos wt leaves x^3, one slot of three.
+  const size_t E = equations_.size();
+  maps_.linear.assign(E, Eigen::MatrixXd());
+  maps_.constant.assign(E, Eigen::VectorXd());
+  maps_.nonlinear.assign(E, CompiledEquation{});
+  maps_.outer.assign(E, {});
+  std::vector<char> nonlinear_slot(slots_.size(), 0);
+  for (size_t i = 0; i < E; ++i) {
+    const CompiledEquation& eq = equations_[i];
+    if (eq.first_row < 0) continue;
+    CompiledEquation affine = eq, nonlinear = eq;
+    affine.terms.clear();
+    nonlinear.terms.clear();
+    for (const CompiledTerm& t : eq.terms) {
+      int degree = 0;
+      for (const auto& factor : t.factors) degree += factor.second;
+      (degree <= 1 ? affine : nonlinear).terms.push_back(t);
+    }
+    nonlinear.slots.clear();
+    for (int s : eq.slots) {
+      bool used = false;
+      for (const CompiledTerm& t : nonlinear.terms)
+        for (const auto& factor : t.factors) used = used || factor.first == s;
+      if (used) nonlinear.slots.push_back(s), nonlinear_slot[s] = 1;
+    }
+    const Eigen::MatrixXd& Q = maps_.equation[i];
+    // b_i: the affine terms at x = 0; L_i: their partials (constant) on A_s.
+    for (Eigen::VectorXd& z : slot_samples_) z.setZero();
+    EvaluateSamples(affine, -1, work_.data());
+    maps_.constant[i] = Q * work_;
+    maps_.weighted.setZero(M_, num_unknowns_);
+    for (int s : eq.slots) {
+      EvaluateSamples(affine, s, work_.data());
+      maps_.weighted += work_.asDiagonal() * maps_.slot[s];
+    }
+    maps_.linear[i] = Q * maps_.weighted;
+    maps_.outer[i].clear();
+    for (int s : nonlinear.slots) {
+      const Eigen::MatrixXd& A = maps_.slot[s];
+      Eigen::MatrixXd T(Q.rows() * num_unknowns_, M_);
+      for (long t = 0; t < M_; ++t)
+        for (long u = 0; u < num_unknowns_; ++u) T.col(t).segment(u * Q.rows(), Q.rows()) = Q.col(t) * A(t, u);
+      maps_.outer[i].push_back(std::move(T));
+    }
+    maps_.nonlinear[i] = std::move(nonlinear);
+  }
+  maps_.nonlinear_slots.clear();
+  for (size_t s = 0; s < slots_.size(); ++s)
+    if (nonlinear_slot[s]) maps_.nonlinear_slots.push_back(static_cast<int>(s));
+  const long S = static_cast<long>(maps_.nonlinear_slots.size());
+  maps_.stacked.resize(S * M_, num_unknowns_);
+  for (long k = 0; k < S; ++k) maps_.stacked.middleRows(k * M_, M_) = maps_.slot[maps_.nonlinear_slots[k]];
 }
 
 bool CollocationResidual::EvaluateSampled(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                           Eigen::MatrixXd* jacobian) {
   if (maps_.frequencies != problem_.frequencies) BuildSampledMaps();
-  for (size_t s = 0; s < slots_.size(); ++s) slot_samples_[s].noalias() = maps_.slot[s] * x;
-  if (!SamplesAdmissible()) {
+  // The nonlinear terms' slots, in one product; only they can overflow.
+  maps_.stacked_samples.noalias() = maps_.stacked * x;
+  if (maps_.stacked_samples.size() && !(maps_.stacked_samples.cwiseAbs().maxCoeff() <= overflow_bound_)) {
     residual->setConstant(num_residuals_, INFINITY);
     return false;
   }
+  for (size_t k = 0; k < maps_.nonlinear_slots.size(); ++k)
+    slot_samples_[maps_.nonlinear_slots[k]] = maps_.stacked_samples.segment(static_cast<long>(k) * M_, M_);
   residual->setZero(num_residuals_);
   if (jacobian) jacobian->setZero(num_residuals_, num_unknowns_);
   for (size_t i = 0; i < equations_.size(); ++i) {
-    const CompiledEquation& eq = equations_[i];
-    if (eq.first_row < 0) continue;
+    if (equations_[i].first_row < 0) continue;
+    const CompiledEquation& eq = maps_.nonlinear[i];
     const Eigen::MatrixXd& Q = maps_.equation[i];
+    const long row = maps_.equation_row[i], rows = Q.rows();
+    auto F = residual->segment(row, rows);
+    F = maps_.constant[i];
+    F.noalias() += maps_.linear[i] * x;
+    if (jacobian) jacobian->middleRows(row, rows) = maps_.linear[i];
+    if (eq.terms.empty()) continue;
     EvaluateSamples(eq, -1, work_.data());
     if (!work_.allFinite()) return false;
-    residual->segment(maps_.equation_row[i], Q.rows()).noalias() += Q * work_;
+    F.noalias() += Q * work_;
     if (!jacobian) continue;
-    maps_.weighted.setZero();
-    for (int s : eq.slots) {
-      EvaluateSamples(eq, s, work_.data());
-      maps_.weighted.noalias() += work_.asDiagonal() * maps_.slot[s];
+    maps_.flat.setZero(rows * num_unknowns_);
+    for (size_t k = 0; k < eq.slots.size(); ++k) {
+      EvaluateSamples(eq, eq.slots[k], work_.data());
+      maps_.flat.noalias() += maps_.outer[i][k] * work_;
     }
-    // Coefficient-wise at these sizes: a blocked GEMM's packing cost more than its flops.
-    jacobian->middleRows(maps_.equation_row[i], Q.rows()).noalias() += Q.lazyProduct(maps_.weighted);
+    jacobian->middleRows(row, rows) += Eigen::Map<const Eigen::MatrixXd>(maps_.flat.data(), rows, num_unknowns_);
   }
   return residual->allFinite() && (!jacobian || jacobian->allFinite());
 }

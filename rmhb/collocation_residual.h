@@ -166,6 +166,9 @@ class CollocationResidual : public NonlinearProblem {
   // own steps, so both paths are the same linear algebra, and rebuilt when
   // the problem's frequencies change (continuation in w retunes them).
   void BuildSampledMaps();
+  // The affine part of every equation as L_i, b_i; the nonlinear terms and
+  // their slots (maps_.nonlinear, maps_.nonlinear_slots).
+  void BuildAffineMaps();
   bool EvaluateSampled(const Eigen::VectorXd& x, Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian);
   // The slot samples' highest power is finite (every sample below
   // overflow_bound_): an admissible point for either path.
@@ -258,11 +261,27 @@ class CollocationResidual : public NonlinearProblem {
   struct SampledMaps {
     std::vector<double> frequencies;        // the maps hold at these
     std::vector<Eigen::MatrixXd> slot;      // A_s: M x num_unknowns
+    // The slots of nonlinear terms, their A_s stacked (the k-th in rows
+    // k M .. k M + M - 1): their samples in one product, and its result.
+    std::vector<int> nonlinear_slots;
+    Eigen::MatrixXd stacked;
+    Eigen::VectorXd stacked_samples;
     // Q_i: equation i's rows (reduced, contiguous from equation_row[i]) x M;
     // empty when condensed away.
     std::vector<Eigen::MatrixXd> equation;
     std::vector<int> equation_row;
-    Eigen::MatrixXd weighted;               // work: sum_s diag(dg_i/dz_s) A_s
+    // Equation i's terms of degree <= 1 are affine in x: their rows are
+    // linear[i] x + constant[i], made once; nonlinear[i] keeps the others.
+    std::vector<Eigen::MatrixXd> linear;
+    std::vector<Eigen::VectorXd> constant;
+    std::vector<CompiledEquation> nonlinear;
+    // outer[i][k]: column t holds Q_i(:, t) A_s(t, :) for the k-th slot s of
+    // nonlinear[i], flattened column-major (rows x num_unknowns): the
+    // nonlinear part of J_i is then sum_k outer[i][k] dg_i/dz_s, one
+    // matrix-vector product per slot.
+    std::vector<std::vector<Eigen::MatrixXd>> outer;
+    Eigen::VectorXd flat;                   // work: that sum
+    Eigen::MatrixXd weighted;               // work: sum_s diag(dg_i/dz_s) A_s (set-up)
   };
   SampledMaps maps_;
 };
