@@ -29,6 +29,13 @@ TEST(DenseLu, SolvesToTheExactSolution) {
     ASSERT_FALSE(lu.singular());
     const Eigen::VectorXd x = lu.solve(A * exact);
     EXPECT_LT((x - exact).cwiseAbs().maxCoeff(), 1e-13) << "n = " << n;
+    // Into a vector of another size (resized), then the same one again: the
+    // same bits as the returning solve, on both paths.
+    Eigen::VectorXd into(1);
+    lu.solve(A * exact, &into);
+    EXPECT_EQ(into, x) << "n = " << n;
+    lu.solve(A * exact, &into);
+    EXPECT_EQ(into, x) << "n = " << n;
   }
 }
 

@@ -219,6 +219,18 @@ TEST(Equilibration, ConditionBeforeAndAfterScalingMatchTheirSvds) {
   const SolverSummary none = SolveNonlinear(problem, &y, o);
   EXPECT_EQ(none.scaled_reciprocal_condition, none.reciprocal_condition);
   EXPECT_GT(none.reciprocal_condition, unscaled / (10 * n));
+
+  // Not asked for (the Monte Carlo's starts): 0, "not computed", and the
+  // same solution to the bit.
+  Eigen::VectorXd z = problem.Root();
+  z(0) *= 1.01;
+  o.scaling = Scaling::kEquilibrate;
+  o.report_condition = false;
+  const SolverSummary quiet = SolveNonlinear(problem, &z, o);
+  ASSERT_TRUE(quiet.converged()) << quiet.FullReport();
+  EXPECT_EQ(quiet.reciprocal_condition, 0);
+  EXPECT_EQ(quiet.scaled_reciprocal_condition, 0);
+  EXPECT_EQ(z, x);
 }
 
 TEST(Equilibration, ScalingNamesParse) {
