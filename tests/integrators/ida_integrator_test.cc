@@ -56,6 +56,31 @@ TEST(IntegrateDae, SemiExplicitIndexOneMatchesExactSolution) {
   EXPECT_GT(result.rhs_evaluations, result.steps);
 }
 
+// A MEMS plate's pull-in as a DAE, the force an algebraic unknown:
+// x' = v, v' = f, 0 = f (1 - x)^2 - a. x reaches 1 at the exact time
+// pi / (2 sqrt(2a)) with v and f unbounded: IDA's steps fall to the round-off
+// of t there, and the integration stops with where and why instead of
+// running out its step budget.
+TEST(IntegrateDae, AStepStuckAtTheRoundOffOfTStopsEarly) {
+  constexpr double a = 0.2;
+  DaeSystem pull_in;
+  pull_in.dimension = 3;
+  pull_in.residual = [](double, const double* y, const double* yp, double* r) {
+    r[0] = yp[0] - y[1];
+    r[1] = yp[1] - y[2];
+    r[2] = y[2] * (1 - y[0]) * (1 - y[0]) - a;
+  };
+  pull_in.differential = {true, true, false};
+  const IntegrationResult result =
+      IntegrateDae(pull_in, Vec({0, 0, a}), Vec({0, a, 0}), 0.0, {3.0}, IntegratorOptions{});
+  ASSERT_FALSE(result.ok());
+  EXPECT_THAT(result.message, HasSubstr("round-off of t"));
+  EXPECT_LE(result.steps, 200'000) << result.message;
+  const double T = kPi / (2 * std::sqrt(2 * a));
+  const double stopped = std::stod(result.message.substr(result.message.find("at t = ") + 7));
+  EXPECT_NEAR(stopped, T, 1e-6 * T) << result.message;
+}
+
 TEST(IntegrateDae, InconsistentInitialConditionIsRepaired) {
   // z0 and yp0 are wrong; only the differential x0 is trusted.
   const IntegrationResult result =
