@@ -76,7 +76,9 @@ class Loader {
 
     LoadVariables(root["variables"], Where(root));
     LoadParameters(root["parameters"]);
-    LoadFrequencies(root["frequencies"], Where(root));
+    YAML::Node frequencies = root["frequencies"];
+    if (!frequencies || frequencies.IsNull()) frequencies = FrequencyFromForcing(root["equations"], Where(root));
+    LoadFrequencies(frequencies, Where(root));
     LoadEquations(root["equations"], Where(root));
     LoadConditions(root["conditions"]);
     LoadInitialState(root["initial_state"]);
@@ -236,6 +238,106 @@ class Loader {
       msg += " (the model has " + Plural(symbolic_->bases.size(), "base frequency") + ")";
     (void)context;
     return msg;
+  }
+
+  // A file without 'frequencies' (rmhb/METHOD.md s.20): a forced model's one
+  // base is read off its forcing. Every t in the equations must sit in a sin
+  // or cos of a t + b, a and b of the parameters only; the smallest |a| is
+  // the base when every other a is an integer multiple of it (cos(w t) and
+  // sin(3 w t): w). A parameter that is the base stays one (--set w,
+  // --continue w). Anything else (no t: an autonomous model; t outside a
+  // sinusoid; incommensurate a) asks for 'frequencies'.
+  YAML::Node FrequencyFromForcing(const YAML::Node& equations, const SourceLocation& root) {
+    const std::string missing =
+        "missing 'frequencies': give each base frequency, a number if known or {guess: value} if it is "
+        "solved for";
+    if (!equations || !(equations.IsSequence() || equations.IsScalar())) throw ModelError(missing, root);
+    std::vector<ex> rates;
+    bool only_sinusoids = true;
+    internal::Resolver resolver;
+    resolver.symbol = [&](const std::string& name, int primes, std::size_t offset) -> ex {
+      const int v = model_.IndexOfVariable(name);
+      if (v >= 0 && primes < static_cast<int>(symbolic_->derivatives[v].size()))
+        return symbolic_->derivatives[v][primes];
+      if (name == "t") return symbolic_->t;
+      ex out;
+      if (ResolveCommon(name, primes, offset, &out, false)) return out;
+      throw ParseError{offset, "", name};
+    };
+    std::vector<YAML::Node> items;
+    if (equations.IsSequence())
+      for (const auto& n : equations) items.push_back(n);
+    else items.push_back(equations);
+    for (const YAML::Node& item : items) {
+      if (!item.IsScalar()) throw ModelError(missing, root);
+      try {
+        CollectRates(internal::ParseEquation(item.Scalar(), resolver), &rates, &only_sinusoids);
+      } catch (const ParseError&) {
+        throw ModelError(missing, root);  // LoadEquations would say why; the frequencies come first
+      }
+    }
+    GiNaC::exmap defaults;
+    for (const auto& p : model_.parameters)
+      defaults[symbolic_->parameters.at(p.name)] = internal::RationalFromDouble(p.value);
+    int base = -1;
+    std::vector<double> values;
+    for (const ex& a : rates) {
+      double value = 0;
+      try {
+        value = std::abs(internal::EvaluateConstant(a.subs(defaults)));
+      } catch (const std::exception&) {
+        only_sinusoids = false;
+      }
+      if (!(value > 0)) only_sinusoids = false;
+      values.push_back(value);
+      if (base < 0 || value < values[base]) base = static_cast<int>(values.size()) - 1;
+    }
+    if (rates.empty() || !only_sinusoids)
+      throw ModelError(missing + (rates.empty() && only_sinusoids
+                                      ? " (no t in the equations: an autonomous model's frequency is solved "
+                                        "for from a guess, {guess: value})"
+                                      : " (the equations' t is not only in sin(a*t + b) or cos(a*t + b) of "
+                                        "commensurate rates a, from which it could be read)"),
+                       root);
+    for (double v : values)
+      if (std::abs(v / values[base] - std::round(v / values[base])) > 1e-12)
+        throw ModelError(missing + " (the forcing's rates are not integer multiples of the smallest: give "
+                                   "each base)",
+                         root);
+    std::ostringstream text;
+    const ex a = rates[base];
+    text << (internal::EvaluateConstant(a.subs(defaults)) < 0 ? ex(-a) : a);
+    YAML::Node node;
+    node.push_back(text.str());
+    return node;
+  }
+
+  // The rates a of every sin(a t + b) and cos(a t + b) in e; only_sinusoids
+  // turns false at a t anywhere else.
+  void CollectRates(const ex& e, std::vector<ex>* rates, bool* only_sinusoids) const {
+    const ex& t = symbolic_->t;
+    if (!e.has(t)) return;
+    if (e.is_equal(t)) {
+      *only_sinusoids = false;
+      return;
+    }
+    if (GiNaC::is_a<GiNaC::function>(e)) {
+      const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+      const ex arg = e.op(0);
+      if ((name == "sin" || name == "cos") && arg.is_polynomial(t) && arg.degree(t) == 1) {
+        const ex a = arg.coeff(t, 1);
+        bool constant = !a.has(t) && !arg.coeff(t, 0).has(t);
+        for (const auto& v : symbolic_->derivatives)
+          for (const GiNaC::symbol& z : v) constant = constant && !a.has(z) && !arg.coeff(t, 0).has(z);
+        if (constant) {
+          rates->push_back(a);
+          return;
+        }
+      }
+      *only_sinusoids = false;
+      return;
+    }
+    for (std::size_t i = 0; i < e.nops(); ++i) CollectRates(e.op(i), rates, only_sinusoids);
   }
 
   void LoadFrequencies(const YAML::Node& node, const SourceLocation& root) {

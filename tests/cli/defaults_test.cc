@@ -193,6 +193,27 @@ TEST(Defaults, ForcedFileWithoutAGuessStartsFromTheSettledMotion) {
   std::remove(model.c_str());
 }
 
+// The same forced file without 'frequencies': the base is read off the
+// forcing (cos(0.8 t)), and the answer is the named file's to the bit.
+TEST(Defaults, AForcedFileNeedsNoFrequencies) {
+  const std::string equation = "variables: [th]\nequations:\n  - \"th'' + 0.1*th' + sin(th) = 0.5*cos(0.8*t)\"\n";
+  const std::string bare = WriteModel("fpend_bare", equation);
+  const std::string named = WriteModel("fpend_named", equation + "frequencies: [0.8]\n");
+  const auto a = Json("solve " + bare + " --validate --json");
+  const auto b = Json("solve " + named + " --validate --json");
+  ASSERT_EQ(a["status"], "converged") << a.dump();
+  EXPECT_EQ(a["frequencies"], b["frequencies"]);
+  EXPECT_EQ(a["coefficients"], b["coefficients"]);
+  EXPECT_EQ(a["validation"]["status"], "ok");
+  // A parameter stays a parameter: --set w moves the base.
+  const std::string parameter = WriteModel(
+      "fduff", "variables: [x]\nparameters: {w: 1.5}\nequations:\n  - \"x'' + 0.1*x' + x + x^3 = cos(w*t)\"\n");
+  const auto c = Json("solve " + parameter + " --set w=1.2 --json");
+  ASSERT_EQ(c["status"], "converged") << c.dump();
+  EXPECT_EQ(c["frequencies"][0].get<double>(), 1.2);
+  for (const std::string& f : {bare, named, parameter}) std::remove(f.c_str());
+}
+
 // A MEMS plate past pull-in: V / (1 - x)^2 has no equilibrium to oscillate
 // about, the motion from rest reaches x = 1 at t = 2.716 (x' -> infinity).
 // Not converged, exit 3, with the residual and where the motion ended; the

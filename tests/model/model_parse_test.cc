@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "rmhb/model/model_definition.h"
@@ -10,6 +11,8 @@
 
 namespace rmhb::model {
 namespace {
+
+using ::testing::HasSubstr;
 
 const char* kPendulum = R"yaml(name: pendulum
 description: Nonlinear pendulum
@@ -102,6 +105,30 @@ TEST(ModelParse, FrequencyForms) {
   const RecastResult r = Recast(m, {{"W", 1.5}});
   EXPECT_EQ(r.problem.frequencies, (std::vector<double>{1.5, 1.0, 3.0, 3.5}));
   EXPECT_EQ(r.problem.unknown_frequency, (std::vector<bool>{false, true, false, false}));
+}
+
+// A forced model without 'frequencies': the base is read off the forcing,
+// a parameter stays one, and the recast is that of the file that names it.
+TEST(ModelParse, ForcingFrequencyWhenNoneIsGiven) {
+  const std::string equations = "equations: [\"x'' + 0.1*x' + x + x^3 = cos(w*t) + 0.2*sin(3*w*t + 1)\"]\n";
+  const ModelDefinition m = ParseModel("variables: [x]\nparameters: {w: 1.5}\n" + equations, "m.yaml");
+  ASSERT_EQ(m.num_bases(), 1);
+  EXPECT_EQ(m.frequencies[0].parameter, "w");
+  EXPECT_FALSE(m.frequencies[0].unknown);
+  const RecastResult inferred = Recast(m, {{"w", 1.2}});
+  const RecastResult named =
+      Recast(ParseModel("variables: [x]\nparameters: {w: 1.5}\n" + equations + "frequencies: [w]\n", "m.yaml"),
+             {{"w", 1.2}});
+  EXPECT_EQ(inferred.problem.frequencies, (std::vector<double>{1.2}));
+  EXPECT_EQ(inferred.problem.frequencies, named.problem.frequencies);
+  EXPECT_EQ(inferred.problem.unknown_frequency, named.problem.unknown_frequency);
+  // A number, a negative rate, and the smallest of commensurate rates.
+  const ModelDefinition number =
+      ParseModel("variables: [x]\nequations: [\"x'' + x = cos(-0.8*t) + cos(1.6*t)\"]\n", "m.yaml");
+  EXPECT_EQ(Recast(number).problem.frequencies, (std::vector<double>{0.8}));
+  const ModelDefinition half = ParseModel(
+      "variables: [x]\nparameters: {W: 2}\nequations: [\"x'' + x = sin(W/2*t)*cos(W*t)\"]\n", "m.yaml");
+  EXPECT_EQ(Recast(half).problem.frequencies, (std::vector<double>{1.0}));
 }
 
 TEST(ModelParse, NaturalNotation) {
@@ -247,6 +274,17 @@ TEST(ModelErrors, Frequencies) {
             "m.yaml:8:6: unknown key 'gues' in a frequency entry (expected guess or value)");
   EXPECT_EQ(ParseError(Pendulum("frequencies:\n  - {guess: 0.86}\n", "")).substr(0, 30),
             "m.yaml:1:1: missing 'frequenci");
+  // Missing and not to be read off a forcing: each says why.
+  EXPECT_THAT(ParseError(Pendulum("frequencies:\n  - {guess: 0.86}\n", "")),
+              HasSubstr("no t in the equations: an autonomous model"));
+  EXPECT_THAT(ParseError("variables: [x]\nequations: [\"x'' + x = t*cos(t)\"]\n"),
+              HasSubstr("not only in sin(a*t + b) or cos(a*t + b)"));
+  EXPECT_THAT(ParseError("variables: [x]\nequations: [\"x'' + x = cos(x*t)\"]\n"),
+              HasSubstr("not only in sin(a*t + b)"));
+  EXPECT_THAT(ParseError("variables: [x]\nequations: [\"x'' + x = cos(t) + cos(sqrt(2)*t)\"]\n"),
+              HasSubstr("not integer multiples of the smallest"));
+  EXPECT_THAT(ParseError("variables: [x]\nequations: [\"x'' + x = cos(omega*t)\"]\n"),
+              HasSubstr("missing 'frequencies'"));
   // With two bases, 'w' is ambiguous.
   EXPECT_EQ(ParseError("variables: [x]\nequations: [\"x'' + x = cos(w*t)\"]\nfrequencies: [1, 2]\n"),
             "m.yaml:2:28: unknown symbol 'w' (with several bases write w1, w2, ...) in equation 1");
