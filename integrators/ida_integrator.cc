@@ -7,13 +7,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "integrators/detail/diagnostics.h"
 #include "integrators/detail/sundials_handles.h"
@@ -174,11 +173,8 @@ class IdaRun {
       double t_current = *t_reached, h_last = 0;
       IDAGetCurrentTime(mem_.get(), &t_current);
       IDAGetLastStep(mem_.get(), &h_last);
-      if (std::abs(h_last) <= 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t_current))) {
-        char where[96];
-        std::snprintf(where, sizeof(where), "|h| = %.3g at t = %.17g", std::abs(h_last), t_current);
-        failure_ = FlagName(IDA_TOO_MUCH_WORK) + ": the step size fell to the round-off of t (" + where +
-                   "): the solution is singular there (a blow-up, a pole of the residual)";
+      if (std::string stuck = detail::RoundOffStopMessage(FlagName(IDA_TOO_MUCH_WORK), h_last, t_current); !stuck.empty()) {
+        failure_ = std::move(stuck);
         return IDA_TOO_MUCH_WORK;
       }
     }

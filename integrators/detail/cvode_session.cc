@@ -13,6 +13,7 @@
 #include <exception>
 #include <limits>
 #include <string>
+#include <utility>
 
 namespace rmhb::integrators::detail {
 namespace {
@@ -228,11 +229,8 @@ int CvodeSession::Advance(double tout, double* t_reached) {
     double t_current = *t_reached, h_last = 0;
     CVodeGetCurrentTime(mem_.get(), &t_current);
     CVodeGetLastStep(mem_.get(), &h_last);
-    if (std::abs(h_last) <= 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t_current))) {
-      char where[96];
-      std::snprintf(where, sizeof(where), "|h| = %.3g at t = %.17g", std::abs(h_last), t_current);
-      failure_ = FlagName(CV_TOO_MUCH_WORK) + ": the step size fell to the round-off of t (" + where +
-                 "): the solution is singular there (a blow-up, a pole of the right-hand side)";
+    if (std::string stuck = RoundOffStopMessage(FlagName(CV_TOO_MUCH_WORK), h_last, t_current); !stuck.empty()) {
+      failure_ = std::move(stuck);
       return CV_TOO_MUCH_WORK;
     }
   }

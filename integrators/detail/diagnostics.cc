@@ -1,7 +1,10 @@
 #include "integrators/detail/diagnostics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <string>
 
 namespace rmhb::integrators::detail {
 
@@ -39,6 +42,14 @@ std::string NonFiniteMessage(const char* callback, double t, int index, double v
                 "%s returned a non-finite value (%g) in component %d at t = %.17g", callback, value,
                 index, t);
   return buffer;
+}
+
+std::string RoundOffStopMessage(const std::string& flag_name, double h, double t) {
+  if (std::abs(h) > 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t))) return "";
+  char where[96];
+  std::snprintf(where, sizeof(where), "|h| = %.3g at t = %.17g", std::abs(h), t);
+  return flag_name + ": the step size fell to the round-off of t (" + where +
+         "): the solution is singular there (a blow-up, a pole of the equations)";
 }
 
 }  // namespace rmhb::integrators::detail

@@ -33,6 +33,13 @@ int FirstNonFinite(const double* values, int n);
 // "rhs returned a non-finite value (nan) in component 1 at t = 0.5".
 std::string NonFiniteMessage(const char* callback, double t, int index, double value);
 
+// A chunk of steps that ended with |h| <= 16 eps max(1, |t|): the step size
+// fell to the round-off of t, where the solution is singular (a blow-up, a
+// pole of the equations). The failure message for `flag_name`, or empty when
+// h is larger: near such a point SUNDIALS keeps taking steps t + h = t and
+// only the step budget stopped it (10^7 steps, 16-20 s).
+std::string RoundOffStopMessage(const std::string& flag_name, double h, double t);
+
 }  // namespace rmhb::integrators::detail
 
 #endif  // RMHB_INTEGRATORS_DETAIL_DIAGNOSTICS_H_
