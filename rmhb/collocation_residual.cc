@@ -664,7 +664,6 @@ void CollocationResidual::BuildSampledMaps() {
     }
   }
   BuildAffineMaps();
-  maps_.weighted.resize(M_, num_unknowns_);
 }
 
 void CollocationResidual::BuildAffineMaps() {

@@ -276,9 +276,7 @@ class Loader {
         throw ModelError(missing, root);  // LoadEquations would say why; the frequencies come first
       }
     }
-    GiNaC::exmap defaults;
-    for (const auto& p : model_.parameters)
-      defaults[symbolic_->parameters.at(p.name)] = internal::RationalFromDouble(p.value);
+    const GiNaC::exmap defaults = ParameterDefaults();
     int base = -1;
     std::vector<double> values;
     for (const ex& a : rates) {
@@ -402,10 +400,16 @@ class Loader {
     }
   }
 
-  void CheckFrequency(const ex& value, const SourceLocation& where, const std::string& context) {
+  // Every parameter at its file value, as an exact rational.
+  GiNaC::exmap ParameterDefaults() const {
     GiNaC::exmap defaults;
     for (const auto& p : model_.parameters)
       defaults[symbolic_->parameters.at(p.name)] = internal::RationalFromDouble(p.value);
+    return defaults;
+  }
+
+  void CheckFrequency(const ex& value, const SourceLocation& where, const std::string& context) {
+    const GiNaC::exmap defaults = ParameterDefaults();
     double w = 0;
     try {
       w = internal::EvaluateConstant(value.subs(defaults));
