@@ -1,5 +1,6 @@
 #include "rmhb/model/model_definition.h"
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -302,11 +303,19 @@ class Loader {
         throw ModelError(missing + " (the forcing's rates are not integer multiples of the smallest: give "
                                    "each base)",
                          root);
-    std::ostringstream text;
+    std::ostringstream printed;
     const ex a = rates[base];
-    text << (internal::EvaluateConstant(a.subs(defaults)) < 0 ? ex(-a) : a);
+    printed << (internal::EvaluateConstant(a.subs(defaults)) < 0 ? ex(-a) : a);
+    // Back into the file's own notation: GiNaC prints pi as Pi.
+    std::string text = printed.str();
+    if (!symbolic_->parameters.count("Pi"))
+      for (std::size_t at = text.find("Pi"); at != std::string::npos; at = text.find("Pi", at + 2)) {
+        const bool alone = (at == 0 || !std::isalnum(static_cast<unsigned char>(text[at - 1]))) &&
+                           (at + 2 == text.size() || !std::isalnum(static_cast<unsigned char>(text[at + 2])));
+        if (alone) text[at] = 'p';
+      }
     YAML::Node node;
-    node.push_back(text.str());
+    node.push_back(text);
     return node;
   }
 

@@ -1,6 +1,7 @@
 // Loading model files: the format, and every error reported as a ModelError
 // with file:line:column.
 
+#include <cmath>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -129,6 +130,10 @@ TEST(ModelParse, ForcingFrequencyWhenNoneIsGiven) {
   const ModelDefinition half = ParseModel(
       "variables: [x]\nparameters: {W: 2}\nequations: [\"x'' + x = sin(W/2*t)*cos(W*t)\"]\n", "m.yaml");
   EXPECT_EQ(Recast(half).problem.frequencies, (std::vector<double>{1.0}));
+  // In hertz: the base 2 pi f follows f.
+  const ModelDefinition hertz = ParseModel(
+      "variables: [x]\nparameters: {f: 0.25}\nequations: [\"x'' + x = cos(2*pi*f*t)\"]\n", "m.yaml");
+  EXPECT_NEAR(Recast(hertz, {{"f", 0.5}}).problem.frequencies[0], M_PI, 1e-15);
 }
 
 TEST(ModelParse, NaturalNotation) {
