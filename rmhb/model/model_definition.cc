@@ -79,7 +79,7 @@ class Loader {
     LoadParameters(root["parameters"]);
     YAML::Node frequencies = root["frequencies"];
     if (!frequencies || frequencies.IsNull()) frequencies = FrequencyFromForcing(root["equations"], Where(root));
-    LoadFrequencies(frequencies, Where(root));
+    LoadFrequencies(frequencies);
     LoadEquations(root["equations"], Where(root));
     LoadConditions(root["conditions"]);
     LoadInitialState(root["initial_state"]);
@@ -347,11 +347,8 @@ class Loader {
     for (std::size_t i = 0; i < e.nops(); ++i) CollectRates(e.op(i), rates, only_sinusoids);
   }
 
-  void LoadFrequencies(const YAML::Node& node, const SourceLocation& root) {
-    if (!node || node.IsNull())
-      throw ModelError("missing 'frequencies': give each base frequency, a number if known or "
-                       "{guess: value} if it is solved for",
-                       root);
+  // node: the file's 'frequencies', or FrequencyFromForcing's when it has none.
+  void LoadFrequencies(const YAML::Node& node) {
     std::vector<YAML::Node> items;
     if (node.IsSequence())
       for (const auto& n : node) items.push_back(n);
