@@ -104,6 +104,7 @@ class SpectralTransform {
   long HalfIndex(const int* reduced) const;
   void SetUpDense();
   void SetUpDenseSpectrum();  // on the first Analyze: residual-only users skip it
+  void SetUpDenseProjection();  // on the first full Project: symmetric solves skip it
   void ForwardFftw(const double* samples);  // real_ -> spectrum_
 
   HarmonicBasis basis_;
@@ -120,13 +121,15 @@ class SpectralTransform {
   mutable std::vector<std::complex<double>> line_spectrum_, sum_spectrum_;
   void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
   void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
-  // Dense backend: E (M x C), E* (C x M), and the half spectrum's real and
+  // Dense backend: E (M x C), E* (C x M, on first use), and the half spectrum's real and
   // imaginary rows ((M/2 + 1) x M, scaled by 1/M), shared with every
   // transform of the same grid in the process (made once, read only).
   struct DenseTables;
+  struct ProjectionTable;
   struct SpectrumTables;
   bool dense_ = false;
   std::shared_ptr<const DenseTables> dense_tables_;
+  std::shared_ptr<const ProjectionTable> projection_table_;
   std::shared_ptr<const SpectrumTables> spectrum_tables_;
   Eigen::VectorXd half_re_, half_im_;
 };
