@@ -30,7 +30,7 @@ long Sampling::total() const {
 
 Sampling Sampling::Uniform(int samples) {
   if (samples < 1) throw std::invalid_argument("Sampling: need at least one sample");
-  return {{samples}, {{1}}, "uniform, " + std::to_string(samples) + " samples"};
+  return {{samples}, {{1}}, "uniform, " + std::to_string(samples) + " samples", {}};
 }
 
 Sampling Sampling::Torus(const std::vector<int>& samples) {
@@ -48,7 +48,7 @@ Sampling Sampling::Torus(const std::vector<int>& samples) {
 
 Sampling Sampling::Gcd(int samples, const std::vector<int>& ratios) {
   if (samples < 1) throw std::invalid_argument("Sampling: need at least one sample");
-  return {{samples}, {ratios}, "GCD rule, " + std::to_string(samples) + " samples"};
+  return {{samples}, {ratios}, "GCD rule, " + std::to_string(samples) + " samples", {}};
 }
 
 std::vector<int> RationalRatios(const std::vector<double>& w, double tolerance, long max_ratio) {

@@ -36,6 +36,11 @@ struct Sampling {
   std::vector<int> grid;                    // points per torus angle
   std::vector<std::vector<int>> embedding;  // [grid angle][base]
   std::string description;
+  // Per grid angle, 1: the samples sit half a step on, at (j + 1/2) 2 pi / M
+  // (empty or 0: at j 2 pi / M). A grid and its shifted copies together are
+  // the grid twice as fine, through the grid's own tables and plans
+  // (SpectralTransform): the alias check of pointwise equations.
+  std::vector<int> half_step;
 
   long total() const;
   static Sampling Uniform(int samples);

@@ -133,6 +133,7 @@ SpectralTransform::SpectralTransform(const HarmonicBasis& basis, const Sampling&
     throw std::invalid_argument("SpectralTransform: two harmonics share a grid frequency; "
                                 "the sampling is too coarse for the basis");
 
+  if (!sampling.half_step.empty()) SetUpShift(sampling.half_step);
   analysed_.resize(half_total_);
   if (backend == Backend::kDense && dims_ != 1)
     throw std::invalid_argument("SpectralTransform: the dense backend needs a grid of one angle");
@@ -231,7 +232,99 @@ std::complex<double> SpectralTransform::SpectrumAt(const int* g) const {
   return std::conj(analysed_[HalfIndex(n)]);
 }
 
+void SpectralTransform::SetUpShift(const std::vector<int>& half_step) {
+  if (static_cast<int>(half_step.size()) != dims_)
+    throw std::invalid_argument("SpectralTransform: half_step needs one flag per grid angle");
+  for (int h : half_step)
+    if (h != 0 && h != 1) throw std::invalid_argument("SpectralTransform: half_step flags are 0 or 1");
+  if (std::find(half_step.begin(), half_step.end(), 1) == half_step.end()) return;
+  half_step_ = half_step;
+  const int K = basis_.size();
+  advance_cos_.resize(K);
+  advance_sin_.resize(K);
+  for (int k = 0; k < K; ++k) {
+    // Half a step along angle d advances harmonic k by g_d pi / M_d, in
+    // turns g_d mod 2 M_d over 2 M_d (reduced exactly, as Phase).
+    double turns = 0;
+    for (int d = 0; d < dims_; ++d)
+      if (half_step[d]) turns += double(Mod(grid_index_[k * dims_ + d], 2 * sampling_.grid[d])) / (2.0 * sampling_.grid[d]);
+    const double a = 2.0 * M_PI * (turns - std::floor(turns));
+    advance_cos_[k] = std::cos(a);
+    advance_sin_[k] = std::sin(a);
+  }
+  turned_.setZero(num_coefficients());
+  projected_.setZero(num_coefficients());
+}
+
+// x on the shifted grid is the grid's transform of x turned by each
+// harmonic's advance p: a cos(k theta + p) + b sin(k theta + p) =
+// (a cos p + b sin p) cos k theta + (b cos p - a sin p) sin k theta.
+// Entries outside `some` (when given) count as zero.
+const double* SpectralTransform::Advance(const double* x, const std::vector<int>* some) {
+  if (half_step_.empty()) return x;
+  if (some) {
+    turned_.setZero();
+    for (int c : *some) turned_(c) = x[c];
+  } else {
+    turned_ = Eigen::Map<const Eigen::VectorXd>(x, num_coefficients());
+  }
+  for (int k = 1; k < basis_.size(); ++k) {
+    const double a = turned_(2 * k - 1), b = turned_(2 * k), c = advance_cos_[k], s = advance_sin_[k];
+    turned_(2 * k - 1) = a * c + b * s;
+    turned_(2 * k) = b * c - a * s;
+  }
+  return turned_.data();
+}
+
+// The inverse of Advance on a projection: the grid's coefficients of the
+// shifted samples, turned back to the harmonics of the unshifted angle.
+void SpectralTransform::TurnBack(double* x) const {
+  for (int k = 1; k < basis_.size(); ++k) {
+    const double a = x[2 * k - 1], b = x[2 * k], c = advance_cos_[k], s = advance_sin_[k];
+    x[2 * k - 1] = a * c - b * s;
+    x[2 * k] = a * s + b * c;
+  }
+}
+
+// `some` with the cos and sin of each of its harmonics: a turn mixes them.
+std::vector<int> SpectralTransform::BothOfEachHarmonic(const std::vector<int>& some) const {
+  std::vector<int> both;
+  for (int c : some) {
+    if (c == 0) {
+      both.push_back(0);
+      continue;
+    }
+    const int k = (c + 1) / 2;
+    both.push_back(2 * k - 1);
+    both.push_back(2 * k);
+  }
+  std::sort(both.begin(), both.end());
+  both.erase(std::unique(both.begin(), both.end()), both.end());
+  return both;
+}
+
 void SpectralTransform::Synthesize(const double* x, double* samples) {
+  SynthesizeOnGrid(Advance(x, nullptr), samples);
+}
+
+void SpectralTransform::SynthesizeSome(const double* x, const std::vector<int>& some, double* samples) {
+  if (half_step_.empty()) return SynthesizeSomeOnGrid(x, some, samples);
+  SynthesizeSomeOnGrid(Advance(x, &some), BothOfEachHarmonic(some), samples);
+}
+
+void SpectralTransform::Project(const double* samples, double* x) {
+  ProjectOnGrid(samples, x);
+  if (!half_step_.empty()) TurnBack(x);
+}
+
+void SpectralTransform::ProjectSome(const double* samples, const std::vector<int>& some, double* x) {
+  if (half_step_.empty()) return ProjectSomeOnGrid(samples, some, x);
+  ProjectSomeOnGrid(samples, BothOfEachHarmonic(some), projected_.data());
+  TurnBack(projected_.data());
+  for (int c : some) x[c] = projected_(c);
+}
+
+void SpectralTransform::SynthesizeOnGrid(const double* x, double* samples) {
   if (dense_) {
     Eigen::Map<Eigen::VectorXd>(samples, total_).noalias() =
         dense_tables_->synthesis * Eigen::Map<const Eigen::VectorXd>(x, dense_tables_->synthesis.cols());
@@ -254,8 +347,8 @@ void SpectralTransform::Synthesize(const double* x, double* samples) {
   std::memcpy(samples, real_, sizeof(double) * total_);
 }
 
-void SpectralTransform::SynthesizeSome(const double* x, const std::vector<int>& some, double* samples) {
-  if (!dense_) return Synthesize(x, samples);
+void SpectralTransform::SynthesizeSomeOnGrid(const double* x, const std::vector<int>& some, double* samples) {
+  if (!dense_) return SynthesizeOnGrid(x, samples);
   Eigen::Map<Eigen::VectorXd> out(samples, total_);
   out.setZero();
   const Eigen::MatrixXd& E = dense_tables_->synthesis;
@@ -269,8 +362,8 @@ void SpectralTransform::SynthesizeSome(const double* x, const std::vector<int>& 
   for (size_t i = four; i < n; ++i) out += x[some[i]] * E.col(some[i]);
 }
 
-void SpectralTransform::ProjectSome(const double* samples, const std::vector<int>& some, double* x) {
-  if (!dense_) return Project(samples, x);
+void SpectralTransform::ProjectSomeOnGrid(const double* samples, const std::vector<int>& some, double* x) {
+  if (!dense_) return ProjectOnGrid(samples, x);
   // Row c of E* is column c of E times 2/M (1/M for the mean): a contiguous dot.
   const Eigen::Map<const Eigen::VectorXd> p(samples, total_);
   const double scale = 2.0 / double(total_);
@@ -282,7 +375,7 @@ void SpectralTransform::ForwardFftw(const double* samples) {
   fftw_execute_dft_r2c(static_cast<fftw_plan>(forward_), real_, reinterpret_cast<fftw_complex*>(spectrum_));
 }
 
-void SpectralTransform::Project(const double* samples, double* x) {
+void SpectralTransform::ProjectOnGrid(const double* samples, double* x) {
   if (dense_) {
     if (!projection_table_) SetUpDenseProjection();
     Eigen::Map<Eigen::VectorXd>(x, projection_table_->projection.rows()).noalias() =
@@ -307,6 +400,8 @@ void SpectralTransform::Project(const double* samples, double* x) {
 }
 
 void SpectralTransform::Analyze(const double* samples) {
+  if (!half_step_.empty())
+    throw std::logic_error("SpectralTransform: a shifted grid serves residual evaluations, not Jacobians");
   if (dense_) {
     if (!spectrum_tables_) SetUpDenseSpectrum();
     const Eigen::Map<const Eigen::VectorXd> p(samples, total_);
@@ -423,7 +518,9 @@ double SpectralTransform::Phase(const std::vector<int>& h, long sample) const {
     long g = 0;
     for (int i = 0; i < basis_.num_bases() && i < static_cast<int>(h.size()); ++i)
       g += long(sampling_.embedding[d][i]) * h[i];
-    phase += double(Mod(g * coord, m)) / m;
+    // Half a step on: (2 coord + 1) / (2 m) of a turn.
+    phase += half_step_.empty() || !half_step_[d] ? double(Mod(g * coord, m)) / m
+                                                  : double(Mod(g * (2 * coord + 1), 2 * m)) / (2.0 * m);
   }
   return 2.0 * M_PI * (phase - std::floor(phase));
 }

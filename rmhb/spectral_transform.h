@@ -64,6 +64,8 @@ class SpectralTransform {
   void SynthesizeSome(const double* coefficients, const std::vector<int>& some, double* samples);
   void ProjectSome(const double* samples, const std::vector<int>& some, double* coefficients_out);
   // Stores the discrete spectrum of `samples` for MultiplicationMatrix.
+  // Throws std::logic_error on a shifted grid (Sampling::half_step), which
+  // serves residual evaluations only.
   void Analyze(const double* samples);
   // out += scale * E* diag(p) E, p the last analysed function. Columns of E
   // may be weighted: column l of E is replaced by the derivative-style
@@ -106,6 +108,17 @@ class SpectralTransform {
   void SetUpDenseSpectrum();  // on the first Analyze: residual-only users skip it
   void SetUpDenseProjection();  // on the first full Project: symmetric solves skip it
   void ForwardFftw(const double* samples);  // real_ -> spectrum_
+  // A shifted grid (Sampling::half_step): each harmonic's phase advance
+  // over the half steps, and the coefficients turned by it.
+  void SetUpShift(const std::vector<int>& half_step);
+  const double* Advance(const double* x, const std::vector<int>* some);
+  void TurnBack(double* x) const;
+  std::vector<int> BothOfEachHarmonic(const std::vector<int>& some) const;
+  // The transforms of the unshifted grid.
+  void SynthesizeOnGrid(const double* x, double* samples);
+  void SynthesizeSomeOnGrid(const double* x, const std::vector<int>& some, double* samples);
+  void ProjectOnGrid(const double* samples, double* x);
+  void ProjectSomeOnGrid(const double* samples, const std::vector<int>& some, double* x);
 
   HarmonicBasis basis_;
   Sampling sampling_;
@@ -132,6 +145,9 @@ class SpectralTransform {
   std::shared_ptr<const ProjectionTable> projection_table_;
   std::shared_ptr<const SpectrumTables> spectrum_tables_;
   Eigen::VectorXd half_re_, half_im_;
+  std::vector<int> half_step_;                     // empty: not shifted
+  std::vector<double> advance_cos_, advance_sin_;  // per basis harmonic
+  Eigen::VectorXd turned_, projected_;
 };
 
 }  // namespace rmhb

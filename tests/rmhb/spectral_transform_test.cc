@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -182,6 +183,78 @@ TEST(SpectralTransform, RestrictedToSomeHarmonicsEqualsTheFullTransforms) {
         EXPECT_NEAR(R(i, j), kept ? 5.0 + B(i, j) : 5.0, 1e-14) << i << ", " << j;
       }
   }
+}
+
+// A grid shifted by half a step (Sampling::half_step) samples what the grid
+// twice as fine has at its odd points, through the coarse grid's tables; the
+// fine projection is the mean of the grid's and its shifted copies'. One
+// angle (both backends, all and some harmonics) and a torus (three copies).
+TEST(SpectralTransform, HalfStepCopiesAreTheGridTwiceAsFine) {
+  const HarmonicBasis line = HarmonicBasis::Periodic(9);
+  const std::vector<int> all = [&] {
+    std::vector<int> c(line.num_coefficients());
+    for (int i = 0; i < line.num_coefficients(); ++i) c[i] = i;
+    return c;
+  }();
+  const std::vector<int> sines = {2, 4, 8, 12};  // a sine-only symmetry's kept coefficients
+  for (auto backend : {SpectralTransform::Backend::kDense, SpectralTransform::Backend::kFftw})
+    for (const std::vector<int>& some : {all, sines}) {
+      const int M = 21, C = line.num_coefficients();
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(C);
+      const Eigen::VectorXd r = Random(C, 31), p = Random(2 * M, 32);
+      for (int c : some) x(c) = r(c);
+      SpectralTransform fine(line, Sampling::Uniform(2 * M), backend), grid(line, Sampling::Uniform(M), backend);
+      Sampling half = Sampling::Uniform(M);
+      half.half_step = {1};
+      SpectralTransform shifted(line, half, backend);
+      Eigen::VectorXd f(2 * M), even(M), odd(M), pe(M), po(M);
+      fine.Synthesize(x.data(), f.data());
+      grid.SynthesizeSome(x.data(), some, even.data());
+      shifted.SynthesizeSome(x.data(), some, odd.data());
+      for (int j = 0; j < M; ++j) {
+        EXPECT_NEAR(even(j), f(2 * j), 1e-14) << j;
+        EXPECT_NEAR(odd(j), f(2 * j + 1), 1e-14) << j;
+        pe(j) = p(2 * j);
+        po(j) = p(2 * j + 1);
+        EXPECT_NEAR(shifted.Phase({3}, j), std::fmod(3 * (j + 0.5) * 2 * M_PI / M, 2 * M_PI), 1e-13);
+      }
+      Eigen::VectorXd y(C), a = Eigen::VectorXd::Constant(C, 7.0), b = Eigen::VectorXd::Constant(C, 7.0);
+      fine.Project(p.data(), y.data());
+      grid.ProjectSome(pe.data(), some, a.data());
+      shifted.ProjectSome(po.data(), some, b.data());
+      for (int c = 0; c < C; ++c)
+        if (std::find(some.begin(), some.end(), c) != some.end()) {
+          EXPECT_NEAR(0.5 * (a(c) + b(c)), y(c), 1e-14) << c;
+        } else if (shifted.dense()) {
+          EXPECT_EQ(b(c), 7.0) << c;  // left as it was
+        }
+      EXPECT_THROW(shifted.Analyze(po.data()), std::logic_error);
+    }
+  const HarmonicBasis torus = HarmonicBasis::Diamond(2, 3);
+  const int C = torus.num_coefficients();
+  const Eigen::VectorXd x = Random(C, 33);
+  SpectralTransform fine(torus, Sampling::Torus({18, 20}));
+  Eigen::VectorXd f(18 * 20), y(C), mean = Eigen::VectorXd::Zero(C);
+  fine.Synthesize(x.data(), f.data());
+  fine.Project(f.data(), y.data());
+  for (int copy = 0; copy < 4; ++copy) {
+    Sampling sampling = Sampling::Torus({9, 10});
+    sampling.half_step = {copy & 1, copy >> 1};
+    SpectralTransform t(torus, sampling);
+    Eigen::VectorXd s(90), z(C);
+    t.Synthesize(x.data(), s.data());
+    for (int i = 0; i < 9; ++i)
+      for (int j = 0; j < 10; ++j)
+        EXPECT_NEAR(s(i * 10 + j), f((2 * i + (copy & 1)) * 20 + 2 * j + (copy >> 1)), 1e-13) << copy;
+    t.Project(s.data(), z.data());
+    mean += z / 4;
+  }
+  EXPECT_LT((mean - y).cwiseAbs().maxCoeff(), 1e-13);
+  Sampling bad = Sampling::Uniform(21);
+  bad.half_step = {2};
+  EXPECT_THROW(SpectralTransform(line, bad), std::invalid_argument);
+  bad.half_step = {1, 0};
+  EXPECT_THROW(SpectralTransform(line, bad), std::invalid_argument);
 }
 
 // A constant partial (a linear term): the identity (or D) times the value,
