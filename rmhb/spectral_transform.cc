@@ -89,8 +89,12 @@ struct SpectralTransform::DenseTables {
 struct SpectralTransform::ProjectionTable {
   Eigen::MatrixXd projection;  // E* (C x M)
 };
+// The half spectrum's indices that no column of E reaches (the products'
+// harmonics beyond the basis) and their real and imaginary rows, scaled by
+// 1/M; the basis's own come from E (Analyze).
 struct SpectralTransform::SpectrumTables {
-  Eigen::MatrixXd cos, sin;  // the half spectrum's real and imaginary rows, scaled by 1/M
+  std::vector<long> rows;
+  Eigen::MatrixXd cos, sin;
 };
 
 SpectralTransform::SpectralTransform(const HarmonicBasis& basis, const Sampling& sampling,
@@ -190,24 +194,33 @@ void SpectralTransform::SetUpDenseProjection() {
 }
 
 void SpectralTransform::SetUpDenseSpectrum() {
-  static auto* cache = new TableCache<long, SpectrumTables>;
+  static auto* cache = new TableCache<std::pair<long, std::vector<int>>, SpectrumTables>;
   const long M = total_, half = half_total_;
-  spectrum_tables_ = cache->Get(M, [&] {
+  spectrum_tables_ = cache->Get({M, grid_index_}, [&] {
+    std::vector<char> reached(half, 0);
+    for (int g : grid_index_) {
+      const long r = Mod(g, static_cast<int>(M));
+      reached[r <= M / 2 ? r : M - r] = 1;
+    }
+    SpectrumTables tables;
+    for (long k = 0; k < half; ++k)
+      if (!reached[k]) tables.rows.push_back(k);
+    const long n = static_cast<long>(tables.rows.size());
     Eigen::VectorXd c, s;
     UnitCircle(M, &c, &s);
-    SpectrumTables tables;
-    tables.cos.resize(half, M);
-    tables.sin.resize(half, M);
+    tables.cos.resize(n, M);
+    tables.sin.resize(n, M);
     for (long t = 0; t < M; ++t)
-      for (long k = 0; k < half; ++k) {
-        const int j = Mod(k * t, static_cast<int>(M));
-        tables.cos(k, t) = c(j) / double(M);
-        tables.sin(k, t) = -s(j) / double(M);
+      for (long i = 0; i < n; ++i) {
+        const int j = Mod(tables.rows[i] * t, static_cast<int>(M));
+        tables.cos(i, t) = c(j) / double(M);
+        tables.sin(i, t) = -s(j) / double(M);
       }
     return tables;
   });
-  half_re_.resize(half_total_);
-  half_im_.resize(half_total_);
+  basis_spectrum_.resize(num_coefficients());
+  half_re_.resize(spectrum_tables_->cos.rows());
+  half_im_.resize(spectrum_tables_->cos.rows());
 }
 
 long SpectralTransform::HalfIndex(const int* r) const {
@@ -405,9 +418,24 @@ void SpectralTransform::Analyze(const double* samples) {
   if (dense_) {
     if (!spectrum_tables_) SetUpDenseSpectrum();
     const Eigen::Map<const Eigen::VectorXd> p(samples, total_);
-    half_re_.noalias() = spectrum_tables_->cos * p;
-    half_im_.noalias() = spectrum_tables_->sin * p;
-    for (long i = 0; i < half_total_; ++i) analysed_[i] = {half_re_(i), half_im_(i)};
+    // The basis's harmonics: E's columns are their cos and sin at the
+    // samples, P[r] = (cos . p - i sin . p) / M (conjugated past M / 2).
+    basis_spectrum_.noalias() = dense_tables_->synthesis.transpose() * p;
+    const double inv = 1.0 / double(total_);
+    const int M = static_cast<int>(total_);
+    analysed_[0] = basis_spectrum_(0) * inv;
+    for (int k = 1; k < basis_.size(); ++k) {
+      const int r = Mod(grid_index_[k], M);
+      const double re = basis_spectrum_(2 * k - 1) * inv, im = basis_spectrum_(2 * k) * inv;
+      if (r <= M / 2)
+        analysed_[r] = {re, -im};
+      else
+        analysed_[M - r] = {re, im};
+    }
+    const SpectrumTables& beyond = *spectrum_tables_;
+    half_re_.noalias() = beyond.cos * p;
+    half_im_.noalias() = beyond.sin * p;
+    for (size_t i = 0; i < beyond.rows.size(); ++i) analysed_[beyond.rows[i]] = {half_re_(i), half_im_(i)};
     return;
   }
   ForwardFftw(samples);

@@ -134,9 +134,10 @@ class SpectralTransform {
   mutable std::vector<std::complex<double>> line_spectrum_, sum_spectrum_;
   void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
   void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
-  // Dense backend: E (M x C), E* (C x M, on first use), and the half spectrum's real and
-  // imaginary rows ((M/2 + 1) x M, scaled by 1/M), shared with every
-  // transform of the same grid in the process (made once, read only).
+  // Dense backend: E (M x C), E* (C x M, on first use), and the rows of the
+  // half spectrum beyond the basis's harmonics (whose rows are E's columns),
+  // shared with every transform of the same grid in the process (made once,
+  // read only).
   struct DenseTables;
   struct ProjectionTable;
   struct SpectrumTables;
@@ -144,7 +145,7 @@ class SpectralTransform {
   std::shared_ptr<const DenseTables> dense_tables_;
   std::shared_ptr<const ProjectionTable> projection_table_;
   std::shared_ptr<const SpectrumTables> spectrum_tables_;
-  Eigen::VectorXd half_re_, half_im_;
+  Eigen::VectorXd basis_spectrum_, half_re_, half_im_;
   std::vector<int> half_step_;                     // empty: not shifted
   std::vector<double> advance_cos_, advance_sin_;  // per basis harmonic
   Eigen::VectorXd turned_, projected_;
