@@ -107,12 +107,44 @@ DenseLu& DenseLu::compute(Eigen::MatrixXd&& A) {
   return *this;
 }
 
+double InverseOneNormEstimate(long n, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& solve,
+                              const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& solve_transposed) {
+  if (n == 0) return 0;
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(n, 1.0 / n);
+  double estimate = 0;
+  Eigen::Index previous = -1;
+  for (int k = 0; k < 5; ++k) {
+    const Eigen::VectorXd y = solve(x);
+    estimate = std::max(estimate, y.lpNorm<1>());
+    const Eigen::VectorXd sign = y.unaryExpr([](double v) { return v >= 0 ? 1.0 : -1.0; });
+    const Eigen::VectorXd z = solve_transposed(sign);
+    Eigen::Index j = 0;
+    const double largest = z.cwiseAbs().maxCoeff(&j);
+    if (!(largest > z.dot(x)) || j == previous) break;
+    x.setZero();
+    x(j) = 1;
+    previous = j;
+  }
+  Eigen::VectorXd b(n);
+  for (Eigen::Index i = 0; i < n; ++i) b(i) = (i % 2 ? -1.0 : 1.0) * (1 + double(i) / std::max<Eigen::Index>(n - 1, 1));
+  return std::max(estimate, 2 * solve(b).lpNorm<1>() / (3.0 * n));
+}
+
 double DenseLu::rcond() const {
   if (rcond_ >= 0) return rcond_;
   rcond_ = 0;
   const Eigen::MatrixXd& lu = use_small_ ? small_.matrixLU() : lu_;
   const int n = static_cast<int>(lu.rows());
   if (n == 0 || singular_ || !std::isfinite(norm_)) return rcond_;
+  if (use_small_) {
+    // Eigen's solves: LAPACK's first call in a fresh process (its code and
+    // buffers) cost a small solve more than the estimate (issue 14).
+    const double inverse = InverseOneNormEstimate(
+        n, [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return small_.solve(v); },
+        [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return small_.transpose().solve(v); });
+    rcond_ = std::isfinite(inverse) && inverse > 0 && norm_ > 0 ? 1 / (norm_ * inverse) : 0;
+    return rcond_;
+  }
   std::vector<double> work(4 * static_cast<std::size_t>(n));
   std::vector<int> iwork(n);
   int info = 0;

@@ -24,6 +24,7 @@
 // OPENBLAS_NUM_THREADS environment variable, else every core). Two runs with
 // the same setting on the same machine give identical results.
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -35,18 +36,20 @@ namespace rmhb {
 // loaded machine costs as much as it saves.
 constexpr int kMinThreadedDimension = 500;
 
-// Square matrices up to this size are factorised by Eigen's unblocked
-// PartialPivLU in storage kept from one factorisation to the next, and
-// solved by its triangular solves: at these sizes OpenBLAS's dgetrf/dgetrs
-// spend more in call overhead and thread pinning than in arithmetic (14
-// unknowns, the Monte Carlo's Duffing at N = 3: ~1.6 k instructions per
-// dgetrs, more than the solve's 400 flops). The 1-norm condition estimate
-// is LAPACK's dgecon on the same packed L\U either way.
-// Not above 32: at 33-64 neither is clearly faster (measured with
-// dense_factorization_benchmark), and at 61 unknowns the different last bits
-// moved the SI-unit MEMS Duffing's CVODE validation error from 1.6e-13 to
-// 1.9e-12 (tests/cli/scaling_test.cc).
-constexpr int kMaxEigenLuDimension = 32;
+// Square matrices up to this size are factorised by Eigen's PartialPivLU in
+// storage kept from one factorisation to the next, and solved by its
+// triangular solves: at these sizes OpenBLAS's dgetrf/dgetrs spend as much
+// or more (one thread, warm: n = 40: 6.6 us against Eigen's 6.4; n = 82:
+// 35 against 31; n = 128: 114 against 119), and in a fresh process their
+// first call faults in OpenBLAS's buffers and code: the forced Duffing at
+// N = 20 (82 unknowns) paid ~0.1 ms of a 0.5 ms first solve for it (issue
+// 14). 14 unknowns (the Monte Carlo's Duffing at N = 3): ~1.6 k
+// instructions per dgetrs, more than the solve's 400 flops. The 1-norm
+// condition estimate is LAPACK's dgecon on the same packed L\U either way.
+// The last bits differ from LAPACK's: at 61 unknowns the SI-unit MEMS
+// Duffing's CVODE validation error moved from 1.6e-13 to 1.9e-12 (CVODE's
+// error, tests/cli/scaling_test.cc holds both with room).
+constexpr int kMaxEigenLuDimension = 128;
 
 // Tall matrices up to this many columns are factorised and solved by
 // Householder reflectors applied one by one in Eigen (unblocked, as dgeqr2): at these sizes OpenBLAS's dgeqr2/dorm2r call
@@ -59,6 +62,12 @@ constexpr int kMaxEigenQrColumns = 96;
 // OpenBLAS's setting; throws std::invalid_argument when negative.
 void SetDenseFactorizationThreads(int threads);
 int DenseFactorizationThreads();  // the count in effect for large matrices
+
+// An estimate of ||A^-1||_1 from x -> A^-1 x and x -> A^-T x (Hager and
+// Higham's power iteration on the 1-norm with Higham's alternative vector,
+// as LAPACK's dlacn2): at most five pairs of solves and one more, O(n^2).
+double InverseOneNormEstimate(long n, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& solve,
+                              const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& solve_transposed);
 
 // P A = L U of a square matrix.
 class DenseLu {
@@ -74,8 +83,8 @@ class DenseLu {
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const;
   // x with A' x = b, from the same factors (condition estimators need it).
   Eigen::VectorXd solve_transposed(const Eigen::VectorXd& b) const;
-  // Reciprocal 1-norm condition estimate (Hager/Higham, dgecon); 0 when
-  // singular. Computed on the first call after compute (O(n^2), a few
+  // Reciprocal 1-norm condition estimate (Hager/Higham: dgecon on LAPACK's
+  // factors, InverseOneNormEstimate on Eigen's); 0 when singular. Computed on the first call after compute (O(n^2), a few
   // solves): a Newton iteration that never asks does not pay for it.
   double rcond() const;
   bool singular() const { return singular_; }

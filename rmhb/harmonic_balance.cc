@@ -458,6 +458,7 @@ HarmonicBalanceSummary SolveWithContinuation(const HarmonicBalanceProblem& probl
       coarse.order = o;
       coarse.order_continuation = false;
       coarse.solver.acceptable_residual = 1e300;  // a truncated solve is only a guess
+      coarse.solver.report_condition = false;     // nor is its Jacobian's condition read
       // Nor worth a Levenberg-Marquardt crawl when Newton fails on it (near
       // the pendulum's separatrix that crawl was most of the time).
       if (coarse.solver.method == SolverMethod::kAuto) coarse.solver.method = SolverMethod::kNewton;

@@ -269,35 +269,12 @@ class NewtonFactorization {
   // J^-1 = D_c J_s^-1 D_r and J^-T = D_r J_s^-T D_c: a few O(n^2) solves
   // with the LU already made, no second factorisation.
   double InverseOneNorm() const {
-    const Eigen::Index n = column_.size();
-    if (n == 0) return 0;
-    auto solve = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
-      return column_.cwiseProduct(lu_.solve(row_.cwiseProduct(v)));
-    };
-    auto solve_transposed = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
-      const Eigen::VectorXd b = column_.cwiseProduct(v);
-      const Eigen::VectorXd solved = lu_.solve_transposed(b);
-      return row_.cwiseProduct(solved);
-    };
-    Eigen::VectorXd x = Eigen::VectorXd::Constant(n, 1.0 / n);
-    double estimate = 0;
-    Eigen::Index previous = -1;
-    for (int k = 0; k < 5; ++k) {
-      const Eigen::VectorXd y = solve(x);
-      estimate = std::max(estimate, y.lpNorm<1>());
-      const Eigen::VectorXd sign = y.unaryExpr([](double v) { return v >= 0 ? 1.0 : -1.0; });
-      const Eigen::VectorXd z = solve_transposed(sign);
-      Eigen::Index j = 0;
-      const double largest = z.cwiseAbs().maxCoeff(&j);
-      if (!(largest > z.dot(x)) || j == previous) break;
-      x.setZero();
-      x(j) = 1;
-      previous = j;
-    }
-    Eigen::VectorXd b(n);
-    for (Eigen::Index i = 0; i < n; ++i)
-      b(i) = (i % 2 ? -1.0 : 1.0) * (1 + double(i) / std::max<Eigen::Index>(n - 1, 1));
-    return std::max(estimate, 2 * solve(b).lpNorm<1>() / (3.0 * n));
+    return InverseOneNormEstimate(
+        column_.size(),
+        [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return column_.cwiseProduct(lu_.solve(row_.cwiseProduct(v))); },
+        [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+          return row_.cwiseProduct(lu_.solve_transposed(column_.cwiseProduct(v)));
+        });
   }
 
   // J_s y = b by GMRES (Eigen), preconditioned by the LU of the coarsened

@@ -64,11 +64,11 @@ TEST(DenseLu, SmallAfterLargeAndBackSolveTheLastMatrix) {
   }
 }
 
-// dgecon estimates 1/(|A|_1 |A^-1|_1); Hager's estimator is exact or close
+// rcond estimates 1/(|A|_1 |A^-1|_1); Hager's estimator is exact or close
 // on such matrices, never above the truth.
 TEST(DenseLu, ConditionEstimateMatchesTheExplicitInverse) {
   for (double scale : {1.0, 1e-6})
-    for (int n : {20, 80}) {  // Eigen's LU, then LAPACK's: dgecon on either's factors
+    for (int n : {20, 80, kMaxEigenLuDimension + 20}) {  // Eigen's LU (our estimator), then LAPACK's (dgecon)
       Eigen::MatrixXd A = WellConditioned(n, n, 11);
       A.col(5) *= scale;  // ill-conditioned by a factor ~1/scale
       const double exact = 1 / (A.cwiseAbs().colwise().sum().maxCoeff() *
