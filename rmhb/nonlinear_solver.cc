@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -218,9 +219,10 @@ class NewtonFactorization {
     // No iterative refinement: Newton (and GMRES) correct the step anyway,
     // and UMFPACK's default two refinement sweeps tripled the cost of every
     // preconditioner application.
-    sparse_lu_.umfpackControl()(UMFPACK_IRSTEP) = 0;
-    sparse_lu_.compute(sparse_scaled_);
-    sparse_failed_ = sparse_lu_.info() != Eigen::Success;
+    if (!sparse_lu_) sparse_lu_ = std::make_unique<krylov::LuPreconditioner::Lu>();
+    sparse_lu_->umfpackControl()(UMFPACK_IRSTEP) = 0;
+    sparse_lu_->compute(sparse_scaled_);
+    sparse_failed_ = sparse_lu_->info() != Eigen::Success;
   }
   void Factor(const Eigen::MatrixXd& J, const Equilibration& e, bool scaled) {
     kind_ = LinearSolver::kDense;
@@ -256,7 +258,7 @@ class NewtonFactorization {
     if (kind_ == LinearSolver::kDense && square_) lu_.solve(b_, y);
     else if (kind_ == LinearSolver::kDense) *y = qr_.solve(b_);
     else if (sparse_failed_) y->setConstant(b_.size(), NAN);
-    else if (kind_ == LinearSolver::kSparse) *y = sparse_lu_.solve(b_);
+    else if (kind_ == LinearSolver::kSparse) *y = sparse_lu_->solve(b_);
     else *y = KrylovSolve(b_, std::max(tolerance, options_.krylov_tolerance));
     *y = -*y;
   }
@@ -288,7 +290,7 @@ class NewtonFactorization {
     gmres.setMaxIterations(options_.krylov_max_iterations);
     gmres.set_restart(options_.krylov_max_iterations);
     gmres.compute(A);
-    gmres.preconditioner().set(&sparse_lu_);
+    gmres.preconditioner().set(sparse_lu_.get());
     Eigen::VectorXd y = gmres.solve(b);
     linear_iterations_ += static_cast<int>(gmres.iterations());
     jacobian_->ReportIterations(static_cast<int>(gmres.iterations()));
@@ -318,7 +320,9 @@ class NewtonFactorization {
   const SolverOptions& options_;
   LinearSolver kind_ = LinearSolver::kDense;
   Eigen::SparseMatrix<double> sparse_scaled_;  // D_r J D_c, sparse J or the preconditioner's
-  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> sparse_lu_;
+  // Made on the first sparse factorisation: UMFPACK's defaults, read in its
+  // constructor, were a first touch of its library in every dense solve.
+  std::unique_ptr<krylov::LuPreconditioner::Lu> sparse_lu_;
   bool sparse_failed_ = false;
   Jacobian* jacobian_ = nullptr;  // sparse, Krylov: the products, the preconditioner's age
   int factored_version_ = -1;
