@@ -107,8 +107,7 @@ DenseLu& DenseLu::compute(Eigen::MatrixXd&& A) {
   return *this;
 }
 
-double InverseOneNormEstimate(long n, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& solve,
-                              const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& solve_transposed) {
+double InverseOneNormEstimate(long n, const VectorMap& solve, const VectorMap& solve_transposed) {
   if (n == 0) return 0;
   Eigen::VectorXd x = Eigen::VectorXd::Constant(n, 1.0 / n);
   double estimate = 0;
@@ -126,7 +125,8 @@ double InverseOneNormEstimate(long n, const std::function<Eigen::VectorXd(const 
     previous = j;
   }
   Eigen::VectorXd b(n);
-  for (Eigen::Index i = 0; i < n; ++i) b(i) = (i % 2 ? -1.0 : 1.0) * (1 + double(i) / std::max<Eigen::Index>(n - 1, 1));
+  for (Eigen::Index i = 0; i < n; ++i)
+    b(i) = (i % 2 ? -1.0 : 1.0) * (1 + double(i) / std::max<Eigen::Index>(n - 1, 1));
   return std::max(estimate, 2 * solve(b).lpNorm<1>() / (3.0 * n));
 }
 

@@ -66,8 +66,8 @@ int DenseFactorizationThreads();  // the count in effect for large matrices
 // An estimate of ||A^-1||_1 from x -> A^-1 x and x -> A^-T x (Hager and
 // Higham's power iteration on the 1-norm with Higham's alternative vector,
 // as LAPACK's dlacn2): at most five pairs of solves and one more, O(n^2).
-double InverseOneNormEstimate(long n, const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& solve,
-                              const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& solve_transposed);
+using VectorMap = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
+double InverseOneNormEstimate(long n, const VectorMap& solve, const VectorMap& solve_transposed);
 
 // P A = L U of a square matrix.
 class DenseLu {
@@ -84,8 +84,9 @@ class DenseLu {
   // x with A' x = b, from the same factors (condition estimators need it).
   Eigen::VectorXd solve_transposed(const Eigen::VectorXd& b) const;
   // Reciprocal 1-norm condition estimate (Hager/Higham: dgecon on LAPACK's
-  // factors, InverseOneNormEstimate on Eigen's); 0 when singular. Computed on the first call after compute (O(n^2), a few
-  // solves): a Newton iteration that never asks does not pay for it.
+  // factors, InverseOneNormEstimate on Eigen's); 0 when singular. Computed
+  // on the first call after compute (O(n^2), a few solves): a Newton
+  // iteration that never asks does not pay for it.
   double rcond() const;
   bool singular() const { return singular_; }
 

@@ -273,7 +273,9 @@ class NewtonFactorization {
   double InverseOneNorm() const {
     return InverseOneNormEstimate(
         column_.size(),
-        [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return column_.cwiseProduct(lu_.solve(row_.cwiseProduct(v))); },
+        [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+          return column_.cwiseProduct(lu_.solve(row_.cwiseProduct(v)));
+        },
         [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
           return row_.cwiseProduct(lu_.solve_transposed(column_.cwiseProduct(v)));
         });

@@ -259,8 +259,10 @@ void SpectralTransform::SetUpShift(const std::vector<int>& half_step) {
     // Half a step along angle d advances harmonic k by g_d pi / M_d, in
     // turns g_d mod 2 M_d over 2 M_d (reduced exactly, as Phase).
     double turns = 0;
-    for (int d = 0; d < dims_; ++d)
-      if (half_step[d]) turns += double(Mod(grid_index_[k * dims_ + d], 2 * sampling_.grid[d])) / (2.0 * sampling_.grid[d]);
+    for (int d = 0; d < dims_; ++d) {
+      const int twice = 2 * sampling_.grid[d];
+      if (half_step[d]) turns += double(Mod(grid_index_[k * dims_ + d], twice)) / twice;
+    }
     const double a = 2.0 * M_PI * (turns - std::floor(turns));
     advance_cos_[k] = std::cos(a);
     advance_sin_[k] = std::sin(a);

@@ -203,7 +203,8 @@ TEST(SpectralTransform, HalfStepCopiesAreTheGridTwiceAsFine) {
       Eigen::VectorXd x = Eigen::VectorXd::Zero(C);
       const Eigen::VectorXd r = Random(C, 31), p = Random(2 * M, 32);
       for (int c : some) x(c) = r(c);
-      SpectralTransform fine(line, Sampling::Uniform(2 * M), backend), grid(line, Sampling::Uniform(M), backend);
+      SpectralTransform fine(line, Sampling::Uniform(2 * M), backend);
+      SpectralTransform grid(line, Sampling::Uniform(M), backend);
       Sampling half = Sampling::Uniform(M);
       half.half_step = {1};
       SpectralTransform shifted(line, half, backend);
