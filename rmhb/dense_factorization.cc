@@ -140,8 +140,8 @@ double DenseLu::rcond() const {
     // Eigen's solves: LAPACK's first call in a fresh process (its code and
     // buffers) cost a small solve more than the estimate (issue 14).
     const double inverse = InverseOneNormEstimate(
-        n, [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return small_.solve(v); },
-        [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return small_.transpose().solve(v); });
+        n, [this](const Eigen::VectorXd& v) { return solve(v); },
+        [this](const Eigen::VectorXd& v) { return solve_transposed(v); });
     rcond_ = std::isfinite(inverse) && inverse > 0 && norm_ > 0 ? 1 / (norm_ * inverse) : 0;
     return rcond_;
   }

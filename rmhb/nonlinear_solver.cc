@@ -4,8 +4,8 @@
 
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <cstdio>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
