@@ -103,11 +103,11 @@ frequency_id::IdentificationOptions IdentificationOptionsFor(const HarmonicBalan
 // record's fit stops at 0.8 of its Nyquist (~25 harmonics at its ~60
 // samples per period), a relaxation oscillation needs hundreds (Van der Pol
 // at eps = 5: 312 for 1e-10).
+// `frequency` is the identified one, or the problem's guess when the
+// identification failed (below).
 std::optional<frequency_id::Signal> OrbitPeriod(const Model& model, const frequency_id::Signal& record,
-                                                const frequency_id::IdentificationSummary& id,
-                                                integrators::IntegratorOptions::Method method) {
-  if (model.problem.frequencies.size() != 1 || !Unknown(model.problem, 0) || !model.original ||
-      id.bases.size() != 1 || !(id.bases[0].frequency > 0))
+                                                double frequency, integrators::IntegratorOptions::Method method) {
+  if (model.problem.frequencies.size() != 1 || !Unknown(model.problem, 0) || !model.original || !(frequency > 0))
     return std::nullopt;
   integrators::IntegratorOptions io;
   io.method = method;  // the record's
@@ -115,7 +115,7 @@ std::optional<frequency_id::Signal> OrbitPeriod(const Model& model, const freque
   io.absolute_tolerance = 1e-14;
   const Eigen::VectorXd y0 = record.samples.bottomRows(1).transpose();
   const double t0 = record.t0 + (record.num_samples() - 1) * record.dt;
-  return seeding::OnePeriod(model.original(model.problem.frequencies), y0, t0, 2 * M_PI / id.bases[0].frequency,
+  return seeding::OnePeriod(model.original(model.problem.frequencies), y0, t0, 2 * M_PI / frequency,
                             kPeriodSamples, io);
 }
 
@@ -162,19 +162,31 @@ std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const Analyz
   frequency_id::IdentifyFrequencies(IdentificationOptionsFor(model.problem, o.window), signal, &id);
   s->identify_seconds = Since(t0);
   s->identification = id;
-  if (!id.IsUsable()) {
+  t0 = Clock::now();
+  const bool one_base = id.bases.size() == 1;
+  const std::optional<frequency_id::Signal> period =
+      OrbitPeriod(model, signal, id.IsUsable() ? (one_base ? id.bases[0].frequency : 0) : model.problem.frequencies[0],
+                  stage.record.integrator.method);
+  // One exact period seeds an autonomous orbit by itself: the identification
+  // only had to find its length roughly, and the problem's guess (the
+  // trajectory's own period for a file without frequencies) serves when it
+  // failed (Van der Pol at mu = 5 from its exact period: the polishing of a
+  // relaxation cycle's many lines stopped; rmhb/METHOD.md s.20).
+  if (!id.IsUsable() && !period) {
     s->status = AnalyzeStatus::kIdentificationFailed;
     s->message = id.message;
     if (id.status == frequency_id::IdentificationStatus::kNoConvergence)
       s->message += " (a transient not yet decayed? try a longer --transient)";
     return std::nullopt;
   }
-  t0 = Clock::now();
-  const std::optional<frequency_id::Signal> period = OrbitPeriod(model, signal, id, stage.record.integrator.method);
   if (period && s->solve_options.tolerance > 0) StartAtPeriodOrder(*period, &s->solve_options);
   try {
-    s->seed = seeding::GuessFromIdentification(id, model.problem, MakeBasis(bases, s->solve_options), model.variables,
-                                               model.state_derivatives, &signal, period ? &*period : nullptr);
+    const HarmonicBasis basis = MakeBasis(bases, s->solve_options);
+    s->seed = id.IsUsable() ? seeding::GuessFromIdentification(id, model.problem, basis, model.variables,
+                                                               model.state_derivatives, &signal,
+                                                               period ? &*period : nullptr)
+                            : seeding::GuessFromPeriod(model.problem, basis, model.variables,
+                                                       model.state_derivatives, *period);
   } catch (const std::invalid_argument& e) {
     s->status = AnalyzeStatus::kSeedFailed;
     s->message = e.what();

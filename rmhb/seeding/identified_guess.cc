@@ -300,6 +300,37 @@ frequency_id::Signal RecordTrajectory(const integrators::DaeSystem& system, cons
   });
 }
 
+namespace {
+
+// The guess from its spectral lines and mean (of the original state), with
+// the autonomous bases' angles turned to meet the problem's conditions.
+void Seed(const std::vector<Line>& lines, const Eigen::VectorXd& mean, const std::vector<double>& w,
+          const HarmonicBalanceProblem& problem, const HarmonicBasis& basis, const StateToVariables& variables,
+          int state_derivatives, IdentifiedGuess* out) {
+  const int d = static_cast<int>(w.size());
+  const int channels = static_cast<int>(mean.size());
+  auto f = [&](const std::vector<double>& theta) {
+    std::vector<Eigen::VectorXd> state(state_derivatives + 1, Eigen::VectorXd::Zero(channels));
+    state[0] = mean;
+    for (const Line& line : lines) {
+      double arg = 0;
+      for (int i = 0; i < d; ++i) arg += line.label[i] * theta[i];
+      double scale = 1;
+      for (int j = 0; j <= state_derivatives; ++j, scale *= line.frequency)
+        for (int c = 0; c < channels; ++c)
+          state[j](c) += scale * line.amplitude(c) * std::cos(arg + line.phase(c) + j * M_PI / 2);
+    }
+    return variables(theta, state);
+  };
+  HarmonicSolution guess = HarmonicSolution::FromAngles(basis, w, problem.system.variables(), f);
+  out->phase_shift = AlignPhases(problem, guess);
+  out->guess = guess.Shifted(out->phase_shift);
+  if (!problem.conditions.empty())
+    out->condition_residual = Conditions(problem, out->guess).cwiseAbs().maxCoeff();
+}
+
+}  // namespace
+
 IdentifiedGuess GuessFromIdentification(const IdentificationSummary& id, const HarmonicBalanceProblem& problem,
                                         const HarmonicBasis& basis, const StateToVariables& variables,
                                         int state_derivatives, const frequency_id::Signal* record,
@@ -373,27 +404,29 @@ IdentifiedGuess GuessFromIdentification(const IdentificationSummary& id, const H
     lines = FitHarmonics(*record, w[0], basis.Reach(0), &mean);
     out.fitted_harmonics = static_cast<int>(lines.size());
   }
-  const int channels = static_cast<int>(mean.size());
-  auto f = [&](const std::vector<double>& theta) {
-    std::vector<Eigen::VectorXd> state(state_derivatives + 1, Eigen::VectorXd::Zero(channels));
-    state[0] = mean;
-    for (const Line& line : lines) {
-      double arg = 0;
-      for (int i = 0; i < d; ++i) arg += line.label[i] * theta[i];
-      double scale = 1;
-      for (int j = 0; j <= state_derivatives; ++j, scale *= line.frequency)
-        for (int c = 0; c < channels; ++c)
-          state[j](c) += scale * line.amplitude(c) * std::cos(arg + line.phase(c) + j * M_PI / 2);
-    }
-    return variables(theta, state);
-  };
-  HarmonicSolution guess = HarmonicSolution::FromAngles(basis, w, problem.system.variables(), f);
-  out.phase_shift = AlignPhases(problem, guess);
-  out.guess = guess.Shifted(out.phase_shift);
-  if (!problem.conditions.empty())
-    out.condition_residual = Conditions(problem, out.guess).cwiseAbs().maxCoeff();
+  Seed(lines, mean, w, problem, basis, variables, state_derivatives, &out);
   return out;
 }
+
+IdentifiedGuess GuessFromPeriod(const HarmonicBalanceProblem& problem, const HarmonicBasis& basis,
+                                const StateToVariables& variables, int state_derivatives,
+                                const frequency_id::Signal& period) {
+  if (problem.frequencies.size() != 1 || basis.num_bases() != 1 || problem.unknown_frequency.empty() ||
+      !problem.unknown_frequency[0])
+    throw std::invalid_argument("GuessFromPeriod: one unknown base frequency only");
+  if (state_derivatives < 0) throw std::invalid_argument("GuessFromPeriod: state_derivatives < 0");
+  const std::vector<double> w = {2 * M_PI / period.duration()};
+  IdentifiedGuess out{HarmonicSolution(basis, w,
+                                       Eigen::MatrixXd::Zero(problem.system.num_variables(), basis.num_coefficients()),
+                                       problem.system.variables()),
+                      w, {0.0}, {{1}}, {}, 0, 0, 0, 0};
+  Eigen::VectorXd mean;
+  const std::vector<Line> lines = PeriodHarmonics(period, basis.Reach(0), &mean);
+  out.period_harmonics = static_cast<int>(lines.size());
+  Seed(lines, mean, w, problem, basis, variables, state_derivatives, &out);
+  return out;
+}
+
 
 std::string IdentifiedGuess::Report() const {
   std::ostringstream os;

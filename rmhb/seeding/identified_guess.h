@@ -128,6 +128,14 @@ IdentifiedGuess GuessFromIdentification(const frequency_id::IdentificationSummar
                                         const frequency_id::Signal* record = nullptr,
                                         const frequency_id::Signal* period = nullptr);
 
+// The same from one exact period alone (as OnePeriod gives it), no
+// identification: one unknown base, w = 2 pi / its length, the harmonics
+// its DFT's, the angle turned to meet the problem's conditions. Throws
+// std::invalid_argument for a problem that is not one unknown base.
+IdentifiedGuess GuessFromPeriod(const HarmonicBalanceProblem& problem, const HarmonicBasis& basis,
+                                const StateToVariables& variables, int state_derivatives,
+                                const frequency_id::Signal& period);
+
 // One period of an autonomous orbit through the state y0 (on the orbit,
 // e.g. a record's settled last sample): its length is the first return to
 // the section through y0 (integrators::SectionReturns) within 20 % of

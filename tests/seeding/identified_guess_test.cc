@@ -13,8 +13,10 @@
 #include <vector>
 
 #include "examples/example_system.h"
+#include "examples/references.h"
 #include "rmhb/seeding/identified_guess.h"
 #include "frequency_id/frequency_identification.h"
+#include "integrators/cvode_integrator.h"
 #include "integrators/trajectory_validation.h"
 #include "rmhb/harmonic_balance.h"
 #include "rmhb/symmetry.h"
@@ -218,6 +220,42 @@ TEST(OnePeriod, ExactPeriodAndHarmonicsOfAKnownOrbit) {
   // Far from the guess: no return within 20 % of it.
   EXPECT_FALSE(OnePeriod(ode, y0, 0.0, 3.0, 256, io).has_value());
   EXPECT_THROW(OnePeriod(ode, y0, 0.0, -1.0, 256, io), std::invalid_argument);
+}
+
+// Van der Pol at eps = 5 seeded from one exact period of its settled orbit
+// and nothing else (no identification: what Analyze falls back on when the
+// identification of a relaxation cycle's many lines fails). The seed's
+// frequency is the CVODE period's, its phase meets x'(0) = 0, and Newton
+// from it converges at order 200 to the period to 1e-10.
+TEST(GuessFromPeriod, SeedsAnAutonomousOrbitWithoutIdentification) {
+  const ExampleSetup e = BuildExample("vanderpol", {{"eps", 5.0}});
+  const integrators::OdeSystem ode{2, e.original.rhs};
+  integrators::IntegratorOptions io;
+  io.method = integrators::IntegratorOptions::Method::kBdf;
+  io.relative_tolerance = 1e-12;
+  io.absolute_tolerance = 1e-14;
+  const integrators::IntegrationResult settle = integrators::IntegrateOde(ode, Eigen::Vector2d(2, 0), 0, {200.0}, io);
+  ASSERT_TRUE(settle.ok());
+  const double period = examples::VanDerPolPeriodByCvode(5.0);
+  const std::optional<frequency_id::Signal> one =
+      OnePeriod(ode, settle.trajectory.states.bottomRows(1).transpose(), 0, 1.1 * period, 4096, io);
+  ASSERT_TRUE(one.has_value());
+  const HarmonicBasis basis = HarmonicBasis::Periodic(200);
+  const IdentifiedGuess seed = GuessFromPeriod(e.problem, basis, Variables(e), 0, *one);
+  EXPECT_NEAR(seed.frequencies[0], 2 * M_PI / period, 1e-9);
+  EXPECT_GT(seed.period_harmonics, 150);
+  EXPECT_LT(seed.condition_residual, 1e-6);
+  HarmonicBalanceOptions options;
+  options.order = 200;
+  HarmonicBalanceProblem problem = e.problem;
+  problem.frequencies = seed.frequencies;
+  const HarmonicBalanceSummary s = SolveHarmonicBalance(problem, seed.guess, options);
+  ASSERT_TRUE(s.converged()) << s.solver.message;
+  EXPECT_NEAR(s.solution->frequencies()[0], 2 * M_PI / period, 1e-10);
+  // Only for one unknown base.
+  const ExampleSetup duffing = BuildExample("duffing");
+  EXPECT_THROW(GuessFromPeriod(duffing.problem, HarmonicBasis::Periodic(5), Variables(duffing), 0, *one),
+               std::invalid_argument);
 }
 
 }  // namespace
