@@ -36,8 +36,12 @@ std::string Primes(int n) { return std::string(static_cast<std::size_t>(n), '\''
 
 class Loader {
  public:
-  Loader(const std::string& text, const std::string& source, const std::vector<std::string>& added_conditions)
-      : text_(text), added_conditions_(added_conditions), symbolic_(std::make_shared<SymbolicModel>()) {
+  Loader(const std::string& text, const std::string& source, const std::vector<std::string>& added_conditions,
+         const std::string& frequency_guess)
+      : text_(text),
+        added_conditions_(added_conditions),
+        frequency_guess_(frequency_guess),
+        symbolic_(std::make_shared<SymbolicModel>()) {
     model_.source = source;
     model_.text = text;
   }
@@ -78,7 +82,8 @@ class Loader {
     LoadVariables(root["variables"], Where(root));
     LoadParameters(root["parameters"]);
     YAML::Node frequencies = root["frequencies"];
-    if (!frequencies || frequencies.IsNull()) frequencies = FrequencyFromForcing(root["equations"], Where(root));
+    if (!frequencies || frequencies.IsNull())
+      frequencies = FrequencyFromForcing(root["equations"], Where(root), root["initial_state"].IsDefined());
     LoadFrequencies(frequencies);
     LoadEquations(root["equations"], Where(root));
     LoadConditions(root["conditions"]);
@@ -246,9 +251,12 @@ class Loader {
   // or cos of a t + b, a and b of the parameters only; the smallest |a| is
   // the base when every other a is an integer multiple of it (cos(w t) and
   // sin(3 w t): w). A parameter that is the base stays one (--set w,
-  // --continue w). Anything else (no t: an autonomous model; t outside a
-  // sinusoid; incommensurate a) asks for 'frequencies'.
-  YAML::Node FrequencyFromForcing(const YAML::Node& equations, const SourceLocation& root) {
+  // --continue w). No t at all (an autonomous model): one unknown base,
+  // whose guess the loader reads off the trajectory from initial_state
+  // (frequency_from_trajectory; rmhb/pipeline/model.h) and passes back as
+  // frequency_guess. Anything else (t outside a sinusoid; incommensurate a;
+  // an autonomous model without initial_state) asks for 'frequencies'.
+  YAML::Node FrequencyFromForcing(const YAML::Node& equations, const SourceLocation& root, bool has_initial_state) {
     const std::string missing =
         "missing 'frequencies': give each base frequency, a number if known or {guess: value} if it is "
         "solved for";
@@ -291,10 +299,18 @@ class Loader {
       values.push_back(value);
       if (base < 0 || value < values[base]) base = static_cast<int>(values.size()) - 1;
     }
+    if (rates.empty() && only_sinusoids && (has_initial_state || !frequency_guess_.empty())) {
+      model_.frequency_from_trajectory = frequency_guess_.empty();
+      model_.frequency_guess = frequency_guess_;
+      YAML::Node node;
+      node["guess"] = frequency_guess_.empty() ? std::string("1") : frequency_guess_;
+      return node;
+    }
     if (rates.empty() || !only_sinusoids)
       throw ModelError(missing + (rates.empty() && only_sinusoids
                                       ? " (no t in the equations: an autonomous model's frequency is solved "
-                                        "for from a guess, {guess: value})"
+                                        "for from a guess, {guess: value}, or from initial_state, whose "
+                                        "trajectory gives the guess)"
                                       : " (the equations' t is not only in sin(a*t + b) or cos(a*t + b) of "
                                         "commensurate rates a, from which it could be read)"),
                        root);
@@ -621,6 +637,7 @@ class Loader {
 
   const std::string& text_;
   const std::vector<std::string>& added_conditions_;
+  const std::string frequency_guess_;
   ModelDefinition model_;
   std::shared_ptr<SymbolicModel> symbolic_;
   std::vector<SourceLocation> variable_where_;
@@ -661,9 +678,9 @@ ParameterValues ModelDefinition::ParameterValuesWith(const ParameterValues& over
 }
 
 ModelDefinition ParseModel(const std::string& text, const std::string& source_name,
-                           const std::vector<std::string>& added_conditions) {
+                           const std::vector<std::string>& added_conditions, const std::string& frequency_guess) {
   try {
-    Loader loader(text, source_name, added_conditions);
+    Loader loader(text, source_name, added_conditions, frequency_guess);
     return loader.Load();
   } catch (const ModelError&) {
     throw;

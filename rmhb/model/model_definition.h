@@ -75,6 +75,12 @@ struct ModelDefinition {
   // Variable name -> expression of t, the parameters and the bases.
   std::vector<std::pair<std::string, SourceText>> guess;
 
+  // An autonomous file without 'frequencies' but with initial_state: its one
+  // unknown base has the placeholder guess 1 until the loader reads the
+  // guess off the trajectory (rmhb/pipeline/model.h) and parses again.
+  bool frequency_from_trajectory = false;
+  std::string frequency_guess;  // the guess it was parsed with then (ParseModel)
+
   std::shared_ptr<const internal::SymbolicModel> symbolic;
 
   int num_bases() const { return static_cast<int>(frequencies.size()); }
@@ -88,8 +94,11 @@ struct ModelDefinition {
 // Parses model text; `source_name` is used in error messages (a file name).
 // `added_conditions` (texts like "x'(0) = 0") follow the file's own: the
 // conditions a model without any gets by default (rmhb/pipeline/model.h).
+// `frequency_guess` (a number's text) is the guess of an autonomous model
+// that gives no 'frequencies' (its default, rmhb/pipeline/model.h).
 ModelDefinition ParseModel(const std::string& text, const std::string& source_name,
-                           const std::vector<std::string>& added_conditions = {});
+                           const std::vector<std::string>& added_conditions = {},
+                           const std::string& frequency_guess = "");
 // Reads and parses a file; errors name `path` as given.
 ModelDefinition LoadModelFile(const std::string& path);
 

@@ -156,6 +156,72 @@ std::vector<std::string> DefaultConditions(const model::ModelDefinition& definit
   return phase;  // every variable of an ODE model is differential: the first has x'.
 }
 
+// The default guess of an autonomous model that gives no 'frequencies'
+// (rmhb/METHOD.md s.20): 2 pi over the period of the trajectory from
+// initial_state, the time between its last two returns to the section
+// through initial_state normal to the flow (on a periodic orbit through it,
+// the first return; approaching a limit cycle, the intervals converge to its
+// period). The horizon starts at 20 time scales of the flow, 2 pi / |J|_inf
+// with J = df/dy at initial_state by differences, and grows 8-fold up to
+// 10^5 of them while fewer than three returns are seen.
+double FrequencyFromTrajectory(const model::ModelDefinition& definition, const Model& p, std::string* note) {
+  const model::SourceLocation at = definition.initial_state.empty() ? model::SourceLocation{definition.source, 1, 1}
+                                                             : definition.initial_state[0].second.where;
+  if (!p.original)
+    throw model::ModelError("no 'frequencies' and the original equations cannot be integrated (" +
+                                (p.original_error.empty() ? std::string("no ODE") : p.original_error) +
+                                "): give frequencies: [{guess: value}]",
+                            at);
+  const integrators::OdeSystem ode = p.original(p.problem.frequencies);
+  const Eigen::VectorXd& y0 = p.initial_state;
+  const long n = y0.size();
+  Eigen::VectorXd f0(n), f1(n);
+  ode.rhs(0, y0.data(), f0.data());
+  Eigen::VectorXd row_sums = Eigen::VectorXd::Zero(n);
+  for (long j = 0; j < n; ++j) {
+    Eigen::VectorXd y = y0;
+    const double h = 1e-7 * std::max(1.0, std::abs(y0(j)));
+    y(j) += h;
+    ode.rhs(0, y.data(), f1.data());
+    row_sums += ((f1 - f0) / h).cwiseAbs();
+  }
+  const double rate = row_sums.allFinite() ? row_sums.maxCoeff() : 0;
+  if (!f0.allFinite() || f0.lpNorm<Eigen::Infinity>() == 0 || !(rate > 0))
+    throw model::ModelError(std::string("no 'frequencies', and ") +
+                                (f0.allFinite() && f0.lpNorm<Eigen::Infinity>() == 0
+                                     ? "initial_state is an equilibrium (the flow is zero there)"
+                                     : "the flow at initial_state has no time scale (its Jacobian is zero or not finite)") +
+                                ": no period to read; give frequencies: [{guess: value}]",
+                            at);
+  const double scale = 2 * M_PI / rate;
+  integrators::IntegratorOptions io;
+  io.method = integrators::IntegratorOptions::Method::kBdf;  // stiff or not
+  io.relative_tolerance = 1e-10;
+  io.absolute_tolerance = 1e-12;
+  std::vector<double> returns;
+  double horizon = 20 * scale;
+  for (; horizon <= 1e5 * scale; horizon *= 8) {
+    returns = integrators::SectionReturns(ode, y0, horizon, io);
+    if (returns.size() >= 3) break;
+  }
+  if (returns.empty()) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.3g", std::min(horizon, 1e5 * scale));
+    throw model::ModelError(std::string("no 'frequencies', and the trajectory from initial_state does not come "
+                                        "back to it (no return to its section in t <= ") +
+                                text + "): give frequencies: [{guess: value}]",
+                            at);
+  }
+  const double period = returns.size() >= 2 ? returns.back() - returns[returns.size() - 2] : returns[0];
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "default guess w = %.9g: the trajectory from initial_state, period %.9g between its "
+                "returns %zu and %zu to the section through initial_state",
+                2 * M_PI / period, period, returns.size() >= 2 ? returns.size() - 1 : 0, returns.size());
+  *note = text;
+  return 2 * M_PI / period;
+}
+
 // The model from its parsed file: `reload` recasts the same definition with
 // other values, never reading or parsing the file again.
 Model ModelFromDefinition(const std::shared_ptr<const model::ModelDefinition>& parsed,
@@ -234,11 +300,25 @@ Model ModelFromDefinition(const std::shared_ptr<const model::ModelDefinition>& p
     };
   ChooseEquations(recast, route, &p);
   if (p.equations == "recast") p.frequency_parameters = recast->frequency_parameters;
+  if (definition.frequency_from_trajectory) {
+    std::string note;
+    char guess[32];
+    std::snprintf(guess, sizeof guess, "%.17g", FrequencyFromTrajectory(definition, p, &note));
+    Model with = ModelFromDefinition(std::make_shared<const model::ModelDefinition>(model::ParseModel(
+                                         definition.text, definition.source, {}, guess)),
+                                     overrides, route);
+    with.frequency_note = note;
+    // Other parameters, another trajectory: the guess is read again.
+    with.reload = p.reload;
+    with.reload_problem = nullptr;
+    return with;
+  }
   if (NeedsDefaultConditions(definition, p)) {
     std::string note;
     const std::vector<std::string> conditions = DefaultConditions(definition, p, &note);
     Model with = ModelFromDefinition(std::make_shared<const model::ModelDefinition>(model::ParseModel(
-                                         definition.text, definition.source, conditions)),
+                                         definition.text, definition.source, conditions,
+                                         definition.frequency_guess)),
                                      overrides, route);
     with.conditions_note = note;
     return with;

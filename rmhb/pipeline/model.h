@@ -100,6 +100,9 @@ struct Model {
   // Set when the file gives no conditions and the model got default ones
   // (which, and why: ModelFromDefinition, rmhb/METHOD.md s.20).
   std::string conditions_note;
+  // Set when an autonomous file gives no 'frequencies': the guess read off
+  // the trajectory from initial_state, and how (rmhb/METHOD.md s.20).
+  std::string frequency_note;
   // The conditions the model got by default (empty without a note), as
   // "x(0) = (1.2)", ...: what a report prints next to the note.
   std::vector<std::string> DefaultConditions() const {

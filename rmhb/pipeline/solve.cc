@@ -44,6 +44,7 @@ std::string Details(const SolveSummary& s) {
            "):\n" + s.recast;
   else
     out += Format("recast (phi = %d):\n", hb.degree) + s.recast;
+  if (!s.frequency_note.empty()) out += "frequencies  " + s.frequency_note + "\n";
   if (!s.default_conditions.empty())
     out += "conditions   " + DefaultConditionsText(s.default_conditions, s.conditions_note) + "\n";
   for (const std::string& symmetry : s.symmetries) out += "symmetry     " + symmetry + " (the guess has it)\n";
@@ -150,6 +151,7 @@ json SolveSummary::ToJson() const {
   if (!start_note.empty()) out["start_note"] = start_note;
   out["equations"] = equations;
   if (!equations_note.empty()) out["equations_note"] = equations_note;
+  if (!frequency_note.empty()) out["frequency_note"] = frequency_note;
   if (!default_conditions.empty()) out["default_conditions"] = DefaultConditionsJson(default_conditions, conditions_note);
   if (!symmetries.empty() || !hb.symmetries_found.empty()) {
     std::vector<std::string> all = symmetries;
@@ -242,6 +244,7 @@ SolveSummary SolveModel(const Model& given, const HarmonicSolution& guess, const
   s.equations_note = model.equations_note;
   s.default_conditions = model.DefaultConditions();
   s.conditions_note = model.conditions_note;
+  s.frequency_note = model.frequency_note;
   for (size_t i = given.problem.symmetries.size(); i < model.problem.symmetries.size(); ++i)
     s.symmetries.push_back(model.problem.symmetries[i].description);
   s.bases = static_cast<int>(model.problem.frequencies.size());

@@ -90,6 +90,8 @@ struct SolveSummary {
   // A model without conditions of its own: those it got, and why (Model::conditions_note).
   std::vector<std::string> default_conditions;
   std::string conditions_note;
+  // An autonomous file without 'frequencies': where its guess came from (Model::frequency_note).
+  std::string frequency_note;
   std::vector<std::string> symmetries;
   int bases = 1;
 

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "examples/references.h"
 #include "integrators/event_detection.h"
@@ -139,6 +140,16 @@ TEST(Defaults, RelaxationOscillationFromAUsersFile) {
   EXPECT_LT(j["order_selection"]["estimate"].get<double>(), 1e-10);
   const auto builtin = Json("solve vanderpol --set eps=5 --json");
   EXPECT_NEAR(Frequency(j), Frequency(builtin), 1e-13);
+  // Without 'frequencies': the guess is the trajectory's exact period, from
+  // which the identification of this cycle's lines stops early; the seed
+  // from one exact period does not need it.
+  const std::string bare = WriteModel("vdp5_bare", "variables: [x]\nparameters: {mu: 5}\n"
+                                                   "equations: [\"x'' - mu*(1 - x^2)*x' + x = 0\"]\n"
+                                                   "initial_state: {x: 2, \"x'\": 0}\n");
+  const auto b = Json("solve " + bare + " --json");
+  ASSERT_EQ(b["status"], "converged") << b.dump();
+  EXPECT_NEAR(Frequency(b), Frequency(builtin), 1e-13);
+  std::remove(bare.c_str());
 
   const double period = CvodePeriod(model, 600, 10);
   EXPECT_NEAR(2 * M_PI / Frequency(j), period, 1e-9 * period);
@@ -167,6 +178,83 @@ TEST(Defaults, FirstOrderSystemWithNothingButInitialState) {
   const double period = CvodePeriod(model, 1200, 10, 0.3);
   EXPECT_NEAR(2 * M_PI / Frequency(j), period, 1e-9 * period);
   std::remove(model.c_str());
+}
+
+// The same files without 'frequencies' (rmhb/METHOD.md s.20): the guess is
+// read off the trajectory from initial_state, between its returns to the
+// section through it, and the answer is the hand-guessed file's: a
+// conservative family (exact), Kepler (exact), a limit cycle from near the
+// origin, a first-order slow-fast cycle.
+TEST(Defaults, AnAutonomousFileNeedsNoFrequencies) {
+  struct Case {
+    std::string name, before, guess, after;
+  };
+  const std::vector<Case> cases = {
+      {"duffing", "variables: [x]\nequations: [\"x'' + x + x^3 = 0\"]\n", "frequencies: [{guess: 1}]\n",
+       "initial_state: {x: 1, \"x'\": 0}\n"},
+      {"kepler", "variables: [x, y]\nequations:\n  - \"x'' = -x/(x^2 + y^2)^(3/2)\"\n  - \"y'' = -y/(x^2 + y^2)^(3/2)\"\n",
+       "frequencies: [{guess: 1}]\n", "initial_state: {x: 1, \"x'\": 0, y: 0, \"y'\": 1.2}\n"},
+      {"rayleigh", "variables: [x]\nequations: [\"x'' - (1 - x'^2)*x' + x = 0\"]\n", "frequencies: [{guess: 1}]\n",
+       "initial_state: {x: 0.1, \"x'\": 0}\n"},
+      {"fhn", "variables: [v, r]\nparameters: {a: 0.7, b: 0.8, eps: 0.08, I: 0.5}\nequations:\n"
+              "  - \"v' = v - v^3/3 - r + I\"\n  - \"r' = eps*(v + a - b*r)\"\n",
+       "frequencies: [{guess: 0.2}]\n", "initial_state: {v: 1, r: 0}\n"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string bare = WriteModel(c.name + "_bare", c.before + c.after);
+    const std::string named = WriteModel(c.name + "_named", c.before + c.guess + c.after);
+    const auto a = Json("solve " + bare + " --json");
+    const auto b = Json("solve " + named + " --json");
+    ASSERT_EQ(a["status"], "converged") << a.dump();
+    ASSERT_EQ(b["status"], "converged") << b.dump();
+    EXPECT_NEAR(Frequency(a), Frequency(b), 1e-11 * Frequency(b));
+    EXPECT_NE(a["frequency_note"].get<std::string>().find("default guess w = "), std::string::npos);
+    EXPECT_FALSE(b.contains("frequency_note"));
+    for (const std::string& f : {bare, named}) std::remove(f.c_str());
+  }
+  const auto duffing = Json("solve " + WriteModel("duffing_bare", cases[0].before + cases[0].after) + " --json");
+  const double exact = M_PI * std::sqrt(2.0) / (2 * EllipticK(0.25));
+  EXPECT_NEAR(Frequency(duffing), exact, 1e-12 * exact);
+}
+
+// Other parameters, another trajectory: the guess is read again (a
+// pendulum's frequency falls with its amplitude), and the answer is exact.
+TEST(Defaults, TheTrajectoryGuessFollowsTheParameters) {
+  const std::string model = WriteModel("pend_amplitude", "variables: [q]\nparameters: {A: 1.5}\n"
+                                                         "equations: [\"q'' + sin(q) = 0\"]\n"
+                                                         "initial_state: {q: A, \"q'\": 0}\n");
+  for (const double A : {1.5, 2.5}) {
+    const auto j = Json("solve " + model + " --set A=" + std::to_string(A) + " --json");
+    ASSERT_EQ(j["status"], "converged") << j.dump();
+    const double exact = PendulumFrequency(A);
+    EXPECT_NEAR(Frequency(j), exact, 1e-12 * exact) << A;
+    const std::string note = j["frequency_note"];
+    const double guess = std::stod(note.substr(note.find("w = ") + 4));
+    EXPECT_NEAR(guess, exact, 1e-6 * exact) << note;
+  }
+  // A model moved to other parameters by the library (continuation, sweeps).
+  const Model loaded = LoadModel(model);
+  const double moved = PendulumFrequency(2.5);
+  EXPECT_NEAR(WithParameters(loaded, {{"A", 2.5}}).problem.frequencies[0], moved, 1e-6 * moved);
+  EXPECT_NEAR(ProblemWithParameters(loaded, {{"A", 2.5}}).frequencies[0], moved, 1e-6 * moved);
+  std::remove(model.c_str());
+}
+
+// No period to read: an equilibrium, a flow without a time scale. Exit 2,
+// the file and where initial_state is, what to give instead.
+TEST(Defaults, NoTrajectoryGuessAtAnEquilibrium) {
+  const std::string rest = WriteModel("rest", "variables: [x]\nequations: [\"x'' + x + x^3 = 0\"]\n"
+                                              "initial_state: {x: 0, \"x'\": 0}\n");
+  const auto r = Cli("solve " + rest);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find(rest + ":3:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("initial_state is an equilibrium"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("frequencies: [{guess: value}]"), std::string::npos) << r.out;
+  const std::string drift = WriteModel("drift", "variables: [x]\nequations: [\"x' = 1\"]\ninitial_state: {x: 0}\n");
+  const auto d = Cli("solve " + drift);
+  EXPECT_EQ(d.code, 2) << d.out;
+  EXPECT_NE(d.out.find("no time scale"), std::string::npos) << d.out;
+  for (const std::string& f : {rest, drift}) std::remove(f.c_str());
 }
 
 // A forced pendulum file without a guess: the zero start fails at the start

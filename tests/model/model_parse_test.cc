@@ -136,6 +136,26 @@ TEST(ModelParse, ForcingFrequencyWhenNoneIsGiven) {
   EXPECT_NEAR(Recast(hertz, {{"f", 0.5}}).problem.frequencies[0], M_PI, 1e-15);
 }
 
+// An autonomous model without 'frequencies' but with initial_state: one
+// unknown base, flagged for the loader to read its guess off the trajectory
+// (rmhb/pipeline/model.h), then parsed again with that guess.
+TEST(ModelParse, AutonomousFrequencyGuessFromTheTrajectory) {
+  const std::string text = Pendulum("frequencies:\n  - {guess: 0.86}\n", "");
+  const ModelDefinition m = ParseModel(text, "m.yaml");
+  EXPECT_TRUE(m.frequency_from_trajectory);
+  ASSERT_EQ(m.num_bases(), 1);
+  EXPECT_TRUE(m.frequencies[0].unknown);
+  EXPECT_EQ(m.frequencies[0].symbol, "w");
+  const ModelDefinition guessed = ParseModel(text, "m.yaml", {}, "0.8606");
+  EXPECT_FALSE(guessed.frequency_from_trajectory);
+  EXPECT_EQ(guessed.frequency_guess, "0.8606");
+  const RecastResult r = Recast(guessed);
+  EXPECT_EQ(r.problem.frequencies, (std::vector<double>{0.8606}));
+  EXPECT_EQ(r.problem.unknown_frequency, (std::vector<bool>{true}));
+  // A file that names its frequencies is not touched by the guess.
+  EXPECT_EQ(Recast(ParseModel(kPendulum, "m.yaml", {}, "0.5")).problem.frequencies, (std::vector<double>{0.86}));
+}
+
 TEST(ModelParse, NaturalNotation) {
   // ** for powers, ln, sqrt, cbrt, log(x, b), arcsin, pi, implicit "= 0".
   const ModelDefinition m = ParseModel(
@@ -277,11 +297,14 @@ TEST(ModelErrors, Frequencies) {
             "m.yaml:8:13: unknown symbol 'omega' in frequency 1");
   EXPECT_EQ(ParseError(Pendulum("{guess: 0.86}", "{gues: 1}")),
             "m.yaml:8:6: unknown key 'gues' in a frequency entry (expected guess or value)");
-  EXPECT_EQ(ParseError(Pendulum("frequencies:\n  - {guess: 0.86}\n", "")).substr(0, 30),
-            "m.yaml:1:1: missing 'frequenci");
+  // An autonomous model without initial_state, whose trajectory would give
+  // the guess.
+  std::string bare = Pendulum("frequencies:\n  - {guess: 0.86}\n", "");
+  bare.replace(bare.find("initial_state:"), bare.find("guess:") - bare.find("initial_state:"), "");
+  EXPECT_EQ(ParseError(bare).substr(0, 30), "m.yaml:1:1: missing 'frequenci");
   // Missing and not to be read off a forcing: each says why.
-  EXPECT_THAT(ParseError(Pendulum("frequencies:\n  - {guess: 0.86}\n", "")),
-              HasSubstr("no t in the equations: an autonomous model"));
+  EXPECT_THAT(ParseError(bare), HasSubstr("no t in the equations: an autonomous model"));
+  EXPECT_THAT(ParseError(bare), HasSubstr("or from initial_state"));
   EXPECT_THAT(ParseError("variables: [x]\nequations: [\"x'' + x = t*cos(t)\"]\n"),
               HasSubstr("not only in sin(a*t + b) or cos(a*t + b)"));
   EXPECT_THAT(ParseError("variables: [x]\nequations: [\"x'' + x = cos(x*t)\"]\n"),
