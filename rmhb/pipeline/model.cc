@@ -156,28 +156,13 @@ std::vector<std::string> DefaultConditions(const model::ModelDefinition& definit
   return phase;  // every variable of an ODE model is differential: the first has x'.
 }
 
-// The default guess of an autonomous model that gives no 'frequencies'
-// (rmhb/METHOD.md s.20): 2 pi over the period of the trajectory from
-// initial_state, the time between its last two returns to the section
-// through initial_state normal to the flow (on a periodic orbit through it,
-// the first return; approaching a limit cycle, the intervals converge to its
-// period). The horizon starts at 20 time scales of the flow, 2 pi / |J|_inf
-// with J = df/dy at initial_state by differences, and grows 8-fold up to
-// 10^5 of them while fewer than three returns are seen.
-double FrequencyFromTrajectory(const model::ModelDefinition& definition, const Model& p, std::string* note) {
-  const model::SourceLocation at = definition.initial_state.empty() ? model::SourceLocation{definition.source, 1, 1}
-                                                             : definition.initial_state[0].second.where;
-  if (!p.original)
-    throw model::ModelError("no 'frequencies' and the original equations cannot be integrated (" +
-                                (p.original_error.empty() ? std::string("no ODE") : p.original_error) +
-                                "): give frequencies: [{guess: value}]",
-                            at);
-  const integrators::OdeSystem ode = p.original(p.problem.frequencies);
-  const Eigen::VectorXd& y0 = p.initial_state;
+// 2 pi / |J|_inf, J = df/dy at y0 by forward differences: the time scale
+// of the flow there, from which the search for a period starts. Refuses an
+// equilibrium and a flow without a time scale (J zero or not finite).
+double FlowTimeScale(const integrators::OdeSystem& ode, const Eigen::VectorXd& y0, const model::SourceLocation& at) {
   const long n = y0.size();
-  Eigen::VectorXd f0(n), f1(n);
+  Eigen::VectorXd f0(n), f1(n), row_sums = Eigen::VectorXd::Zero(n);
   ode.rhs(0, y0.data(), f0.data());
-  Eigen::VectorXd row_sums = Eigen::VectorXd::Zero(n);
   for (long j = 0; j < n; ++j) {
     Eigen::VectorXd y = y0;
     const double h = 1e-7 * std::max(1.0, std::abs(y0(j)));
@@ -186,14 +171,34 @@ double FrequencyFromTrajectory(const model::ModelDefinition& definition, const M
     row_sums += ((f1 - f0) / h).cwiseAbs();
   }
   const double rate = row_sums.allFinite() ? row_sums.maxCoeff() : 0;
-  if (!f0.allFinite() || f0.lpNorm<Eigen::Infinity>() == 0 || !(rate > 0))
+  const bool rest = f0.allFinite() && f0.lpNorm<Eigen::Infinity>() == 0;
+  if (rest || !f0.allFinite() || !(rate > 0))
     throw model::ModelError(std::string("no 'frequencies', and ") +
-                                (f0.allFinite() && f0.lpNorm<Eigen::Infinity>() == 0
-                                     ? "initial_state is an equilibrium (the flow is zero there)"
-                                     : "the flow at initial_state has no time scale (its Jacobian is zero or not finite)") +
+                                (rest ? "initial_state is an equilibrium (the flow is zero there)"
+                                      : "the flow at initial_state has no time scale (its Jacobian is zero or "
+                                        "not finite)") +
                                 ": no period to read; give frequencies: [{guess: value}]",
                             at);
-  const double scale = 2 * M_PI / rate;
+  return 2 * M_PI / rate;
+}
+
+// The default guess of an autonomous model that gives no 'frequencies'
+// (rmhb/METHOD.md s.20): 2 pi over the period of the trajectory from
+// initial_state, the time between its last two returns to the section
+// through initial_state normal to the flow (on a periodic orbit through it,
+// the first return; approaching a limit cycle, the intervals converge to its
+// period). The horizon starts at 20 time scales of the flow and grows 8-fold
+// up to 10^5 of them while fewer than three returns are seen.
+double FrequencyFromTrajectory(const model::ModelDefinition& definition, const Model& p, std::string* note) {
+  const model::SourceLocation at = definition.initial_state.empty() ? model::SourceLocation{definition.source, 1, 1}
+                                                                    : definition.initial_state[0].second.where;
+  if (!p.original)
+    throw model::ModelError("no 'frequencies' and the original equations cannot be integrated (" +
+                                (p.original_error.empty() ? std::string("no ODE") : p.original_error) +
+                                "): give frequencies: [{guess: value}]",
+                            at);
+  const integrators::OdeSystem ode = p.original(p.problem.frequencies);
+  const double scale = FlowTimeScale(ode, p.initial_state, at);
   integrators::IntegratorOptions io;
   io.method = integrators::IntegratorOptions::Method::kBdf;  // stiff or not
   io.relative_tolerance = 1e-10;
@@ -201,23 +206,23 @@ double FrequencyFromTrajectory(const model::ModelDefinition& definition, const M
   std::vector<double> returns;
   double horizon = 20 * scale;
   for (; horizon <= 1e5 * scale; horizon *= 8) {
-    returns = integrators::SectionReturns(ode, y0, horizon, io);
+    returns = integrators::SectionReturns(ode, p.initial_state, horizon, io);
     if (returns.size() >= 3) break;
   }
+  char text[192];
   if (returns.empty()) {
-    char text[64];
     std::snprintf(text, sizeof text, "%.3g", std::min(horizon, 1e5 * scale));
     throw model::ModelError(std::string("no 'frequencies', and the trajectory from initial_state does not come "
                                         "back to it (no return to its section in t <= ") +
                                 text + "): give frequencies: [{guess: value}]",
                             at);
   }
-  const double period = returns.size() >= 2 ? returns.back() - returns[returns.size() - 2] : returns[0];
-  char text[160];
+  const std::size_t last = returns.size();
+  const double period = last >= 2 ? returns[last - 1] - returns[last - 2] : returns[0];
   std::snprintf(text, sizeof text,
                 "default guess w = %.9g: the trajectory from initial_state, period %.9g between its "
                 "returns %zu and %zu to the section through initial_state",
-                2 * M_PI / period, period, returns.size() >= 2 ? returns.size() - 1 : 0, returns.size());
+                2 * M_PI / period, period, last - 1, last);
   *note = text;
   return 2 * M_PI / period;
 }

@@ -192,7 +192,9 @@ TEST(Defaults, AnAutonomousFileNeedsNoFrequencies) {
   const std::vector<Case> cases = {
       {"duffing", "variables: [x]\nequations: [\"x'' + x + x^3 = 0\"]\n", "frequencies: [{guess: 1}]\n",
        "initial_state: {x: 1, \"x'\": 0}\n"},
-      {"kepler", "variables: [x, y]\nequations:\n  - \"x'' = -x/(x^2 + y^2)^(3/2)\"\n  - \"y'' = -y/(x^2 + y^2)^(3/2)\"\n",
+      {"kepler",
+       "variables: [x, y]\nequations:\n  - \"x'' = -x/(x^2 + y^2)^(3/2)\"\n"
+       "  - \"y'' = -y/(x^2 + y^2)^(3/2)\"\n",
        "frequencies: [{guess: 1}]\n", "initial_state: {x: 1, \"x'\": 0, y: 0, \"y'\": 1.2}\n"},
       {"rayleigh", "variables: [x]\nequations: [\"x'' - (1 - x'^2)*x' + x = 0\"]\n", "frequencies: [{guess: 1}]\n",
        "initial_state: {x: 0.1, \"x'\": 0}\n"},
