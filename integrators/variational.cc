@@ -7,6 +7,23 @@
 
 namespace rmhb::integrators {
 
+Eigen::MatrixXd DifferenceJacobian(const OdeSystem& system, double t, const double* y0) {
+  const int n = system.dimension;
+  const double step = std::cbrt(std::numeric_limits<double>::epsilon());
+  Eigen::MatrixXd jacobian(n, n);
+  Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(y0, n), plus(n), minus(n);
+  for (int i = 0; i < n; ++i) {
+    const double h = step * (1 + std::abs(y0[i]));
+    y(i) = y0[i] + h;
+    system.rhs(t, y.data(), plus.data());
+    y(i) = y0[i] - h;
+    system.rhs(t, y.data(), minus.data());
+    y(i) = y0[i];
+    jacobian.col(i) = (plus - minus) / (2 * h);
+  }
+  return jacobian;
+}
+
 OdeSystem VariationalSystem(const OdeSystem& system, const JacobianFunction& jacobian_function) {
   const int n = system.dimension;
   OdeSystem augmented;
@@ -19,17 +36,7 @@ OdeSystem VariationalSystem(const OdeSystem& system, const JacobianFunction& jac
       jacobian_function(t, z, rows.data());
       jacobian = rows;
     } else {
-      const double step = std::cbrt(std::numeric_limits<double>::epsilon());
-      Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(z, n), plus(n), minus(n);
-      for (int i = 0; i < n; ++i) {
-        const double h = step * (1 + std::abs(z[i]));
-        y(i) = z[i] + h;
-        system.rhs(t, y.data(), plus.data());
-        y(i) = z[i] - h;
-        system.rhs(t, y.data(), minus.data());
-        y(i) = z[i];
-        jacobian.col(i) = (plus - minus) / (2 * h);
-      }
+      jacobian = DifferenceJacobian(system, t, z);
     }
     Eigen::Map<Eigen::MatrixXd>(dz + n, n, n) = jacobian * Eigen::Map<const Eigen::MatrixXd>(z + n, n, n);
   };

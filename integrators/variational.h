@@ -21,6 +21,10 @@ namespace rmhb::integrators {
 
 using JacobianFunction = std::function<void(double t, const double* y, double* jacobian)>;
 
+// df/dy at (t, y) by the central differences above (y: system.dimension
+// entries).
+Eigen::MatrixXd DifferenceJacobian(const OdeSystem& system, double t, const double* y);
+
 // `system` must outlive the returned one.
 OdeSystem VariationalSystem(const OdeSystem& system, const JacobianFunction& jacobian);
 

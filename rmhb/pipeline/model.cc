@@ -9,6 +9,7 @@
 #include "integrators/cvode_integrator.h"
 #include "integrators/event_detection.h"
 #include "integrators/ida_integrator.h"
+#include "integrators/variational.h"
 #include "rmhb/model/recast.h"
 #include "rmhb/pipeline/settings.h"
 
@@ -156,21 +157,14 @@ std::vector<std::string> DefaultConditions(const model::ModelDefinition& definit
   return phase;  // every variable of an ODE model is differential: the first has x'.
 }
 
-// 2 pi / |J|_inf, J = df/dy at y0 by forward differences: the time scale
-// of the flow there, from which the search for a period starts. Refuses an
+// 2 pi / |J|_inf, J = df/dy at y0 by differences: the time scale of the
+// flow there, from which the search for a period starts. Refuses an
 // equilibrium and a flow without a time scale (J zero or not finite).
 double FlowTimeScale(const integrators::OdeSystem& ode, const Eigen::VectorXd& y0, const model::SourceLocation& at) {
-  const long n = y0.size();
-  Eigen::VectorXd f0(n), f1(n), row_sums = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd f0(y0.size());
   ode.rhs(0, y0.data(), f0.data());
-  for (long j = 0; j < n; ++j) {
-    Eigen::VectorXd y = y0;
-    const double h = 1e-7 * std::max(1.0, std::abs(y0(j)));
-    y(j) += h;
-    ode.rhs(0, y.data(), f1.data());
-    row_sums += ((f1 - f0) / h).cwiseAbs();
-  }
-  const double rate = row_sums.allFinite() ? row_sums.maxCoeff() : 0;
+  const Eigen::MatrixXd J = integrators::DifferenceJacobian(ode, 0, y0.data());
+  const double rate = J.allFinite() ? J.cwiseAbs().rowwise().sum().maxCoeff() : 0;
   const bool rest = f0.allFinite() && f0.lpNorm<Eigen::Infinity>() == 0;
   if (rest || !f0.allFinite() || !(rate > 0))
     throw model::ModelError(std::string("no 'frequencies', and ") +

@@ -427,7 +427,6 @@ IdentifiedGuess GuessFromPeriod(const HarmonicBalanceProblem& problem, const Har
   return out;
 }
 
-
 std::string IdentifiedGuess::Report() const {
   std::ostringstream os;
   os.precision(3);
