@@ -399,7 +399,11 @@ HarmonicSolution GuessAtOrder(const Model& model, int order) {
 }
 
 void DetectInvariances(Model* model) {
-  if (model->invariances.empty() && model->problem.frequencies.size() > 1)
+  // One base: only without conditions (a forced system). A half-turn maps
+  // t = 0 to t = T/2, so conditions at t = 0 are not equivariant and a
+  // symmetric start need not stay symmetric (Kepler's ellipse from a circle).
+  const size_t bases = model->problem.frequencies.size();
+  if (model->invariances.empty() && (bases > 1 || (bases == 1 && model->problem.conditions.empty())))
     model->invariances = DetectHalfTurnSymmetries(model->problem.system, static_cast<int>(model->problem.frequencies.size()));
 }
 

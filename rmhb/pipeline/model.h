@@ -160,7 +160,9 @@ Model LoadModel(const std::string& path, const std::map<std::string, double>& ov
 HarmonicSolution GuessAtOrder(const Model& model, int order);
 
 // Sets model->invariances, when empty, to the half-turn symmetries of its
-// equations for two or more bases (DetectHalfTurnSymmetries): LoadModel and
+// equations (DetectHalfTurnSymmetries) for two or more bases, or for one
+// base when the problem has no conditions (a forced system: conditions at
+// t = 0 are not equivariant under t -> t + T/2): LoadModel and
 // the built-in examples call it, so that a model file and an example with
 // the same equations impose the same symmetries.
 void DetectInvariances(Model* model);

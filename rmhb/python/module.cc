@@ -197,6 +197,7 @@ class Model {
       throw std::invalid_argument("method must be rhb, hdhb or aft, got '" + method + "'");
     py::gil_scoped_release release;
     PreparedSolve prepared = PrepareSolve(*model_, settings);
+    ImposeGuessSymmetries(prepared.guess, &prepared.model);  // as SolveModel: the same unknowns, the same answer
     auto model = std::make_shared<const rmhb::Model>(std::move(prepared.model));
     // As `rmhb solve --start` (SolveModel's start): the guess, then a simulated or identified start.
     Solution out{model, start == "guess" ? SolveHarmonicBalance(model->problem, prepared.guess, prepared.options)

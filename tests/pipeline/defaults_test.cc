@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <functional>
 
+#include "rmhb/harmonic_balance.h"
 #include "rmhb/pipeline/settings.h"
 #include "rmhb/pipeline/solve.h"
 
@@ -71,6 +72,43 @@ void ExpectTargetMet(const std::string& file, const Gap& gap, double A) {
   EXPECT_LE(frequency_error, 1e-10);
   EXPECT_LE(frequency_error, std::max(hb.frequency_estimate, 1e-13));  // an upper estimate (above round-off)
   EXPECT_LE(v.max_error / A, 1e-10);
+}
+
+// A forced file (no conditions) whose equations are odd under x -> -x with
+// t + T/2 gets that half-turn from its symmetric guess: half the unknowns,
+// the full solve's answer, and CVODE's trajectory from the solution's own
+// state. One with an even term, or with conditions (which a half-turn moves
+// from t = 0 to T/2), gets none.
+TEST(Symmetry, AForcedFileSolvesOnHalfTheUnknowns) {
+  const std::string file = "tests/pipeline/models/forced-quintic.yaml";
+  const Model model = LoadModel(file);
+  ASSERT_FALSE(model.invariances.empty());
+  SolveSettings settings;
+  settings.order = 20;
+  settings.order_given = true;
+  const PreparedSolve prepared = PrepareSolve(model, settings);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.validate = true;
+  options.validate_periods = 20;
+  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  ASSERT_EQ(s.symmetries.size(), 1u) << s.FullReport();
+  ASSERT_TRUE(s.validation.has_value());
+  EXPECT_LT(s.validation->verdict.relative_error, 1e-9) << s.FullReport();
+  // The full problem from the same guess: the same solution, twice the unknowns.
+  const HarmonicBalanceSummary full = SolveHarmonicBalance(prepared.model.problem, prepared.guess, prepared.options);
+  ASSERT_TRUE(full.usable()) << full.FullReport();
+  const HarmonicBalanceSummary& half = s.harmonic_balance;
+  EXPECT_LE(2 * half.solver.num_unknowns, full.solver.num_unknowns + 1);
+  EXPECT_LT((full.solution->coefficients() - half.solution->coefficients()).cwiseAbs().maxCoeff(), 1e-13);
+
+  EXPECT_TRUE(LoadModel("tests/pipeline/models/quadratic-duffing.yaml").invariances.empty());
+  // An odd autonomous oscillator released at rest, on the recast: none.
+  const Model autonomous = LoadModel("tests/pipeline/models/radical-oscillator.yaml");
+  EXPECT_EQ(autonomous.equations, "recast");
+  EXPECT_FALSE(autonomous.problem.conditions.empty());
+  EXPECT_TRUE(autonomous.invariances.empty());
 }
 
 TEST(DefaultTarget, PeriodicModelsMeetItAgainstTheExactPeriod) {
