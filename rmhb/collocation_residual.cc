@@ -143,9 +143,10 @@ void CollocationResidual::SetUpLinearAlgebra() {
 void CollocationResidual::SetUpSymmetries() {
   if (problem_.symmetries.empty()) return;
   const int d = basis_.num_bases();
-  // Coefficient c of a variable belongs to harmonic (c + 1) / 2.
+  // Coefficient c of a variable belongs to harmonic (c + 1) / 2; even c > 0
+  // is its sine (which only a time reversal tells from the cosine).
   auto allowed = [&](int coefficient, int sign, const HalfTurnSymmetry& s) {
-    return s.Allows(basis_.harmonic((coefficient + 1) / 2), sign);
+    return s.AllowsCoefficient(basis_.harmonic((coefficient + 1) / 2), coefficient > 0 && coefficient % 2 == 0, sign);
   };
   for (int j = 0; j < n_; ++j)
     for (int c = 0; c < C_; ++c) {
@@ -169,8 +170,15 @@ void CollocationResidual::SetUpSymmetries() {
       if (keep) kept_residuals_.push_back(eq.first_row + c - skip);
     }
   }
-  for (int r = full_residuals_ - static_cast<int>(problem_.conditions.size()); r < full_residuals_; ++r)
-    kept_residuals_.push_back(r);
+  // A condition a time reversal meets identically (x'(0) = 0 for an even x)
+  // has a zero row on the subspace: dropped.
+  const int first_condition = full_residuals_ - static_cast<int>(problem_.conditions.size());
+  for (size_t c = 0; c < problem_.conditions.size(); ++c) {
+    bool holds = false;
+    for (const auto& s : problem_.symmetries)
+      holds = holds || ClassifyCondition(s, problem_.conditions[c]) == ConditionOnSubspace::kHolds;
+    if (!holds) kept_residuals_.push_back(first_condition + static_cast<int>(c));
+  }
   num_unknowns_ = static_cast<int>(kept_unknowns_.size());
   num_residuals_ = static_cast<int>(kept_residuals_.size());
   full_x_.setZero(full_unknowns_);

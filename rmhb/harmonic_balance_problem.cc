@@ -21,9 +21,14 @@ void HarmonicBalanceProblem::Validate() const {
                                   std::to_string(w));
   if (!unknown_frequency.empty() && unknown_frequency.size() != frequencies.size())
     throw std::invalid_argument("unknown_frequency must have one flag per base frequency");
-  for (const auto& symmetry : symmetries)
+  for (const auto& symmetry : symmetries) {
     for (int i = 0; i < system.num_equations(); ++i)
       symmetry.EquationSign(system, i, static_cast<int>(frequencies.size()));
+    for (const PointCondition& condition : conditions)
+      if (ClassifyCondition(symmetry, condition) == ConditionOnSubspace::kViolated)
+        throw std::invalid_argument("condition '" + condition.description + "' cannot hold under the symmetry '" +
+                                    symmetry.description + "'");
+  }
 }
 
 }  // namespace rmhb

@@ -1,6 +1,7 @@
 #include "rmhb/symmetry.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace rmhb {
@@ -26,6 +27,11 @@ int HalfTurnSymmetry::EquationSign(const PolynomialSystem& system, int equation,
     if (h != 0 && h != 1) throw std::invalid_argument(name + ": half-turn flags must be 0 or 1");
   for (int s : sign)
     if (s != 1 && s != -1) throw std::invalid_argument(name + ": signs must be +1 or -1");
+  if (reverses_time && static_cast<int>(equation_sign.size()) == system.num_equations()) {
+    if (equation_sign[equation] == 0)
+      throw std::invalid_argument("equation " + std::to_string(equation + 1) + " is not invariant under the " + name);
+    return equation_sign[equation];
+  }
   if (const auto& p = system.equations()[equation].pointwise) {
     // Known only for the half-wave map of one base with every sign flipped.
     bool all_flip = true;
@@ -47,11 +53,12 @@ int HalfTurnSymmetry::PolynomialSign(const PolynomialSystem& system, int equatio
   for (const auto& [mono, c] : system.equations()[equation].lhs.terms()) {
     int s = 1;
     for (const auto& [slot, power] : mono.factors)
-      if (sign[slot.variable] < 0 && power % 2 == 1) s = -s;
+      if (SlotSign(slot) < 0 && power % 2 == 1) s = -s;
     if (mono.time.kind != TimeFunction::Kind::kOne) {
       std::vector<int> q = mono.time.harmonic;
       q.resize(num_bases, 0);
       s *= Parity(q);
+      if (reverses_time && mono.time.kind == TimeFunction::Kind::kSin) s = -s;
     }
     if (result == 0) result = s;
     if (s != result) return 0;
@@ -66,6 +73,9 @@ std::string Describe(const PolynomialSystem& system, const HalfTurnSymmetry& s) 
     if (s.sign[j] < 0) flipped += (flipped.empty() ? "" : ", ") + system.variables()[j].name;
   for (size_t b = 0; b < s.half_turn.size(); ++b)
     if (s.half_turn[b]) turned += (turned.empty() ? "theta_" : " + theta_") + std::to_string(b + 1);
+  if (s.reverses_time)
+    return std::string("t -> -t") + (flipped.empty() ? "" : " with (" + flipped + ") -> -(" + flipped + ")") +
+           " (time reversal, detected)";
   return (flipped.empty() ? std::string("no sign change") : "(" + flipped + ") -> -(" + flipped + ")") +
          (turned.empty() ? "" : " with " + turned + " + pi") + " (detected)";
 }
@@ -75,7 +85,7 @@ unsigned long HalfTurnSymmetry::Mask() const {
   unsigned long mask = 0;
   for (size_t b = 0; b < half_turn.size(); ++b) mask |= static_cast<unsigned long>(half_turn[b] != 0) << b;
   for (size_t j = 0; j < sign.size(); ++j) mask |= static_cast<unsigned long>(sign[j] < 0) << (half_turn.size() + j);
-  return mask;
+  return mask | static_cast<unsigned long>(reverses_time) << (half_turn.size() + sign.size());
 }
 
 std::vector<HalfTurnSymmetry> DetectHalfTurnSymmetries(const PolynomialSystem& system, int num_bases) {
@@ -110,6 +120,82 @@ std::vector<HalfTurnSymmetry> DetectHalfTurnSymmetries(const PolynomialSystem& s
   return found;
 }
 
+namespace {
+
+// +1 or -1 when g(-t, s z) = +-g(t, z) at a few points within the domain of
+// the usual nonlinearities (|z| <= 1/2), 0 otherwise (as the recast's
+// half-wave test, METHOD.md s.13).
+int PointwiseReversalSign(const PointwiseEquation& e, const HalfTurnSymmetry& s, const std::vector<double>& w) {
+  const std::size_t n = e.slots.size();
+  std::vector<double> in(1 + n + w.size()), flipped(in.size()), out(1 + n), out_flipped(1 + n);
+  int sign = 0;
+  for (int point = 0; point < 6; ++point) {
+    in[0] = 0.37 + 1.3 * point;
+    flipped[0] = -in[0];
+    for (std::size_t i = 0; i < n; ++i) {
+      in[1 + i] = 0.5 * std::sin(1.7 * point + 2.3 * double(i) + 0.4);
+      flipped[1 + i] = s.SlotSign(e.slots[i]) * in[1 + i];
+    }
+    for (std::size_t b = 0; b < w.size(); ++b) in[1 + n + b] = flipped[1 + n + b] = w[b];
+    e.evaluate(in.data(), out.data());
+    e.evaluate(flipped.data(), out_flipped.data());
+    const double a = out[0], b = out_flipped[0], tol = 1e-12 * (1 + std::abs(a));
+    if (!std::isfinite(a) || !std::isfinite(b)) return 0;
+    const int p = std::abs(a + b) <= tol ? -1 : std::abs(a - b) <= tol ? 1 : 0;
+    if (p == 0 || (sign != 0 && p != sign && std::abs(a) > tol)) return 0;
+    if (std::abs(a) > tol) sign = p;
+  }
+  return sign;
+}
+
+}  // namespace
+
+std::vector<HalfTurnSymmetry> DetectTimeReversals(const PolynomialSystem& system,
+                                                  const std::vector<double>& frequencies) {
+  const int n = system.num_variables(), d = static_cast<int>(frequencies.size());
+  std::vector<HalfTurnSymmetry> found;
+  if (n > 14 || d == 0) return found;
+  for (unsigned long mask = 0; mask < (1UL << n) && found.size() < 64; ++mask) {
+    HalfTurnSymmetry s;
+    s.half_turn.assign(d, 0);
+    s.reverses_time = true;
+    for (int j = 0; j < n; ++j) s.sign.push_back(mask >> j & 1 ? -1 : 1);
+    s.equation_sign.assign(system.num_equations(), 0);
+    bool invariant = true;  // the polynomial equations first: cheap, and they prune
+    for (int i = 0; i < system.num_equations() && invariant; ++i)
+      if (!system.equations()[i].pointwise) invariant = (s.equation_sign[i] = s.PolynomialSign(system, i, d)) != 0;
+    for (int i = 0; i < system.num_equations() && invariant; ++i)
+      if (const auto& p = system.equations()[i].pointwise)
+        invariant = (s.equation_sign[i] = PointwiseReversalSign(*p, s, frequencies)) != 0;
+    if (!invariant) continue;
+    s.description = Describe(system, s);
+    found.push_back(std::move(s));
+  }
+  return found;
+}
+
+ConditionOnSubspace ClassifyCondition(const HalfTurnSymmetry& s, const PointCondition& condition) {
+  if (!s.reverses_time) return ConditionOnSubspace::kKept;
+  for (int h : s.half_turn)
+    if (h) return ConditionOnSubspace::kKept;
+  // z_j(0) is free where z_j is even, z_j'(0) where it is odd; the rest are 0.
+  const long n = static_cast<long>(s.sign.size());
+  Eigen::VectorXd z(n), dz(n), gz(n), gdz(n);
+  double value = 0;
+  for (int draw = 1; draw <= 2; ++draw) {
+    for (long j = 0; j < n; ++j) {
+      z(j) = s.sign[j] > 0 ? 0.3 + 0.17 * double(j + 1) * draw : 0;
+      dz(j) = s.sign[j] < 0 ? 0.21 + 0.13 * double(j + 1) * draw : 0;
+    }
+    gz.setZero();
+    gdz.setZero();
+    value = condition.function(z, dz, &gz, &gdz);
+    for (long j = 0; j < n; ++j)
+      if ((s.sign[j] > 0 && gz(j) != 0) || (s.sign[j] < 0 && gdz(j) != 0)) return ConditionOnSubspace::kKept;
+  }
+  return std::abs(value) <= 1e-12 ? ConditionOnSubspace::kHolds : ConditionOnSubspace::kViolated;
+}
+
 std::vector<HalfTurnSymmetry> SymmetriesOf(const HarmonicSolution& guess, const std::vector<HalfTurnSymmetry>& candidates,
                                            const std::vector<HalfTurnSymmetry>& already, double tolerance) {
   std::vector<HalfTurnSymmetry> held;
@@ -131,8 +217,9 @@ std::vector<HalfTurnSymmetry> SymmetriesOf(const HarmonicSolution& guess, const 
     if (std::find(group.begin(), group.end(), s.Mask()) != group.end()) continue;
     double off = 0;
     for (int j = 0; j < c.rows(); ++j)
-      for (int k = 0; k < basis.size(); ++k)
-        if (!s.Allows(basis.harmonic(k), s.sign[j])) off = std::max(off, size(j, k));
+      for (int col = 0; col < c.cols(); ++col)
+        if (!s.AllowsCoefficient(basis.harmonic((col + 1) / 2), col > 0 && col % 2 == 0, s.sign[j]))
+          off = std::max(off, std::abs(c(j, col)));
     if (off > tolerance * scale) continue;
     // A guess whose flipped variables are all zero (rest, where cos x = 1 is
     // not), or without any odd harmonic along a turned base (a constant, one
@@ -144,6 +231,11 @@ std::vector<HalfTurnSymmetry> SymmetriesOf(const HarmonicSolution& guess, const 
         for (int k = 0; k < basis.size() && !flipped_moves; ++k) flipped_moves = size(j, k) > tolerance * scale;
       }
     if (flips && !flipped_moves) continue;
+    // A constant is even in t trivially.
+    bool varies = false;
+    for (int j = 0; j < c.rows() && s.reverses_time && !varies; ++j)
+      for (int k = 1; k < basis.size() && !varies; ++k) varies = size(j, k) > tolerance * scale;
+    if (s.reverses_time && !varies) continue;
     for (size_t b = 0; b < s.half_turn.size(); ++b) {
       if (!s.half_turn[b]) continue;
       bool odd = false;

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "rmhb/harmonic_solution.h"
+#include "rmhb/point_condition.h"
 #include "rmhb/polynomial_system.h"
 
 namespace rmhb {
@@ -32,11 +33,24 @@ struct HalfTurnSymmetry {
   std::vector<int> half_turn;  // h_b in {0, 1}, one per base frequency
   std::vector<int> sign;       // s_j = +1 or -1, one per variable
   std::string description;     // e.g. "x -> -x with theta_1 + pi"
+  // A time reversal theta -> -theta (with the half-turn, if any): a solution
+  // with z_j(-theta) = s_j z_j(theta) has cosines only (and its constant)
+  // where s_j = +1, sines only where s_j = -1 (METHOD.md s.8). Derivatives
+  // change sign once more per order, and so do sin(q.theta) forcing terms.
+  bool reverses_time = false;
+  // With reverses_time: each equation's sign, found by DetectTimeReversals
+  // (the pointwise ones numerically, so EquationSign cannot recompute it).
+  std::vector<int> equation_sign = {};
 
   // (-1)^(k.h): how harmonic k transforms under the shift.
   int Parity(const std::vector<int>& harmonic) const;
   // Whether harmonic k may appear in a function that transforms with `sign`.
   bool Allows(const std::vector<int>& harmonic, int sign) const { return Parity(harmonic) == sign; }
+  // The same for one coefficient of harmonic k, its sine (`sine`) or its
+  // cosine (or the constant): they differ only under a time reversal.
+  bool AllowsCoefficient(const std::vector<int>& harmonic, bool sine, int sign) const {
+    return (reverses_time && sine ? -Parity(harmonic) : Parity(harmonic)) == sign;
+  }
 
   // The sign with which equation `equation` of `system` transforms: every
   // monomial must give the same one (variables and derivatives by their
@@ -47,10 +61,34 @@ struct HalfTurnSymmetry {
   // The same for a polynomial equation without the checks: 0 when its
   // terms mix parities.
   int PolynomialSign(const PolynomialSystem& system, int equation, int num_bases) const;
-  // The map as bits (half-turns, then flipped variables): composing two maps
-  // is the xor of their masks.
+  // How z_j^(d) transforms: s_j, and once more per derivative under a reversal.
+  int SlotSign(const Slot& slot) const {
+    return reverses_time && slot.derivative % 2 == 1 ? -sign[slot.variable] : sign[slot.variable];
+  }
+  // The map as bits (half-turns, then flipped variables, then the time
+  // reversal): composing two maps is the xor of their masks.
   unsigned long Mask() const;
 };
+
+// The time reversals of `system` (t -> -t with z_j -> s_j z_j; one base or
+// several, all reversed): every equation keeps one sign, the polynomial ones
+// term by term, the pointwise ones at a few points with the base
+// frequencies `frequencies` (e.g. x'' + (1 - x'^2)^(3/2) x = 0 under x -> -x,
+// or the pendulum's with x -> x). Listed without the compositions with the
+// pure sign flips among them; empty for more than 14 variables. A
+// conservative oscillator released at rest (or launched from its centre)
+// has one: its solution is even (or odd) in t, half the unknowns again.
+std::vector<HalfTurnSymmetry> DetectTimeReversals(const PolynomialSystem& system,
+                                                  const std::vector<double>& frequencies);
+
+// What a condition at t = 0 is on the subspace of a pure time reversal
+// (no half-turn), where z_j(0) = 0 for s_j = -1 and z_j'(0) = 0 for s_j = +1:
+// kept (it reads a value that is free there), holding identically (it reads
+// only zeros and is met: its row is dropped, e.g. x'(0) = 0 for an even x)
+// or violated (it reads only zeros and is not met: no solution has the
+// symmetry). Any other symmetry keeps every condition.
+enum class ConditionOnSubspace { kKept, kHolds, kViolated };
+ConditionOnSubspace ClassifyCondition(const HalfTurnSymmetry& symmetry, const PointCondition& condition);
 
 // The half-turn symmetries of a polynomial system (every equation keeps one
 // parity): every element of the group they form but the identity (at most

@@ -402,13 +402,28 @@ void DetectInvariances(Model* model) {
   // One base: only without conditions (a forced system). A half-turn maps
   // t = 0 to t = T/2, so conditions at t = 0 are not equivariant and a
   // symmetric start need not stay symmetric (Kepler's ellipse from a circle).
-  const size_t bases = model->problem.frequencies.size();
-  if (model->invariances.empty() && (bases > 1 || (bases == 1 && model->problem.conditions.empty())))
-    model->invariances = DetectHalfTurnSymmetries(model->problem.system, static_cast<int>(model->problem.frequencies.size()));
+  const HarmonicBalanceProblem& p = model->problem;
+  const size_t bases = p.frequencies.size();
+  if (model->invariances.empty() && (bases > 1 || (bases == 1 && p.conditions.empty())))
+    model->invariances = DetectHalfTurnSymmetries(p.system, static_cast<int>(bases));
+  // Time reversals keep t = 0 where it is: conditions there are equivariant.
+  for (HalfTurnSymmetry& reversal : DetectTimeReversals(p.system, p.frequencies)) {
+    bool listed = false;
+    for (const HalfTurnSymmetry& s : model->invariances) listed = listed || s.Mask() == reversal.Mask();
+    if (!listed) model->invariances.push_back(std::move(reversal));
+  }
 }
 
 int ImposeGuessSymmetries(const HarmonicSolution& guess, Model* model) {
-  const std::vector<HalfTurnSymmetry> held = SymmetriesOf(guess, model->invariances, model->problem.symmetries);
+  // Not one whose subspace violates a condition (x(0) = 1 for an odd x).
+  std::vector<HalfTurnSymmetry> candidates;
+  for (const HalfTurnSymmetry& s : model->invariances) {
+    bool violated = false;
+    for (const PointCondition& c : model->problem.conditions)
+      violated = violated || ClassifyCondition(s, c) == ConditionOnSubspace::kViolated;
+    if (!violated) candidates.push_back(s);
+  }
+  const std::vector<HalfTurnSymmetry> held = SymmetriesOf(guess, candidates, model->problem.symmetries);
   model->problem.symmetries.insert(model->problem.symmetries.end(), held.begin(), held.end());
   return static_cast<int>(held.size());
 }

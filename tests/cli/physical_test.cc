@@ -50,9 +50,10 @@ TEST(PhysicalCli, WrongRootIsExitFive) {
 }
 
 // A model file names its auxiliary by the recast (sqrt_1); HDHB aliasing at
-// beta = 0.95, N = 16 lands on a non-physical solution.
+// beta = 0.99, N = 12 (25 samples) lands on a non-physical solution (on its
+// time-reversal subspace; N = 16 at beta = 0.95, aliased too, is now physical).
 TEST(PhysicalCli, AliasedHdhbIsExitFive) {
-  const CliRun run = Cli("solve relativistic --set beta=0.95 --order 16 --method hdhb --start guess");
+  const CliRun run = Cli("solve relativistic --set beta=0.99 --order 12 --method hdhb --start guess");
   EXPECT_EQ(run.code, kExitNonPhysical) << run.out;
   EXPECT_NE(run.out.find("a wrong root of the recast or aliasing"), std::string::npos) << run.out;
 }

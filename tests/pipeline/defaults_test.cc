@@ -104,11 +104,106 @@ TEST(Symmetry, AForcedFileSolvesOnHalfTheUnknowns) {
   EXPECT_LT((full.solution->coefficients() - half.solution->coefficients()).cwiseAbs().maxCoeff(), 1e-13);
 
   EXPECT_TRUE(LoadModel("tests/pipeline/models/quadratic-duffing.yaml").invariances.empty());
-  // An odd autonomous oscillator released at rest, on the recast: none.
+  // An odd autonomous oscillator released at rest, on the recast: no
+  // half-turn, only time reversals (which keep t = 0 where it is).
   const Model autonomous = LoadModel("tests/pipeline/models/radical-oscillator.yaml");
   EXPECT_EQ(autonomous.equations, "recast");
   EXPECT_FALSE(autonomous.problem.conditions.empty());
-  EXPECT_TRUE(autonomous.invariances.empty());
+  for (const HalfTurnSymmetry& s : autonomous.invariances) EXPECT_TRUE(s.reverses_time) << s.description;
+}
+
+// Solved through SolveModel (the symmetries the guess has imposed) and as
+// the full problem from the same guess: the same solution.
+struct ReducedAndFull {
+  SolveSummary reduced;
+  HarmonicBalanceSummary full;
+};
+ReducedAndFull SolveBothWays(const std::string& file, int order, EquationsRoute route) {
+  SolveSettings settings;
+  settings.order = order;
+  settings.order_given = true;
+  const PreparedSolve prepared = PrepareSolve(LoadModel(file, {}, route), settings);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.validate = true;
+  options.validate_periods = 20;
+  return {SolveModel(prepared.model, prepared.guess, options),
+          SolveHarmonicBalance(prepared.model.problem, prepared.guess, prepared.options)};
+}
+
+bool ReversesTime(const SolveSummary& s) {
+  for (const std::string& d : s.symmetries)
+    if (d.find("time reversal") != std::string::npos) return true;
+  return false;
+}
+
+// A time reversal (t -> -t, z_j -> +-z_j) keeps t = 0 where it is, so it is
+// imposed with conditions too: an oscillator launched from its centre is odd
+// in t (sines only, x(0) = 0 dropped as met), a forced undamped one driven by
+// a sine likewise. A quarter of the unknowns with the half-wave map, the
+// full solve's solution, the exact period, CVODE's trajectory. The launched
+// oscillator on its original equations (the reversal tested pointwise), the
+// forced one on the recast (term by term).
+TEST(Symmetry, TimeReversalsKeepSinesOrCosinesOnly) {
+  const ReducedAndFull launched =
+      SolveBothWays("tests/pipeline/models/launched-softening.yaml", 40, EquationsRoute::kAuto);
+  EXPECT_EQ(launched.reduced.equations, "original");
+  ASSERT_EQ(launched.reduced.status, SolveStatus::kConverged) << launched.reduced.FullReport();
+  ASSERT_TRUE(launched.full.usable()) << launched.full.FullReport();
+  EXPECT_TRUE(ReversesTime(launched.reduced)) << launched.reduced.FullReport();
+  const HarmonicBalanceSummary& l = launched.reduced.harmonic_balance;
+  EXPECT_EQ(l.solver.num_unknowns, 21);  // the sines of harmonics 1, 3, ..., 39 and w
+  EXPECT_EQ(l.solver.num_residuals, 21);  // their balance and x'(0) = v
+  EXPECT_GE(launched.full.solver.num_unknowns, 4 * (l.solver.num_unknowns - 1));
+  const double v = 0.8, A = std::sqrt(std::expm1(v * v));
+  const Gap gap = [](double e, double d) { return -0.5 * std::log1p(d * (2 * e + d) / (1 + e * e)); };
+  const double exact = 2 * M_PI / ExactPeriod(gap, A);
+  EXPECT_LT(std::abs(l.solution->frequencies()[0] - exact), 1e-12 * exact);
+  EXPECT_LT(std::abs(launched.full.solution->frequencies()[0] - exact), 1e-12 * exact);
+  EXPECT_LT((launched.full.solution->coefficients() - l.solution->coefficients()).cwiseAbs().maxCoeff(), 1e-12);
+  ASSERT_TRUE(launched.reduced.validation.has_value());
+  EXPECT_LT(launched.reduced.validation->verdict.relative_error, 1e-9);
+
+  const ReducedAndFull forced = SolveBothWays("tests/pipeline/models/forced-undamped.yaml", 20, EquationsRoute::kAuto);
+  EXPECT_EQ(forced.reduced.equations, "recast");
+  ASSERT_EQ(forced.reduced.status, SolveStatus::kConverged) << forced.reduced.FullReport();
+  ASSERT_TRUE(forced.full.usable()) << forced.full.FullReport();
+  EXPECT_TRUE(ReversesTime(forced.reduced)) << forced.reduced.FullReport();
+  const HarmonicBalanceSummary& f = forced.reduced.harmonic_balance;
+  EXPECT_EQ(f.solver.num_unknowns, 10);  // the sines of harmonics 1, 3, ..., 19
+  EXPECT_LT((forced.full.solution->coefficients() - f.solution->coefficients()).cwiseAbs().maxCoeff(), 1e-12);
+  ASSERT_TRUE(forced.reduced.validation.has_value());
+  EXPECT_LT(forced.reduced.validation->verdict.relative_error, 1e-9);
+
+  // Damping breaks it.
+  for (const HalfTurnSymmetry& s : LoadModel("tests/pipeline/models/forced-quintic.yaml").invariances)
+    EXPECT_FALSE(s.reverses_time) << s.description;
+}
+
+// What a condition at t = 0 is on a reversal's subspace: x(0) is zero where
+// x is odd, x'(0) where it is even.
+TEST(Symmetry, ConditionsOnATimeReversalsSubspace) {
+  HalfTurnSymmetry even{{0}, {1}, "x even"}, odd{{0}, {-1}, "x odd"}, half_wave{{1}, {-1}, "half-wave"};
+  even.reverses_time = odd.reverses_time = true;
+  EXPECT_EQ(ClassifyCondition(even, PointCondition::Value(0, 1.5)), ConditionOnSubspace::kKept);
+  EXPECT_EQ(ClassifyCondition(even, PointCondition::DerivativeValue(0, 0)), ConditionOnSubspace::kHolds);
+  EXPECT_EQ(ClassifyCondition(even, PointCondition::DerivativeValue(0, 0.8)), ConditionOnSubspace::kViolated);
+  EXPECT_EQ(ClassifyCondition(odd, PointCondition::Value(0, 0)), ConditionOnSubspace::kHolds);
+  EXPECT_EQ(ClassifyCondition(odd, PointCondition::Value(0, 1.5)), ConditionOnSubspace::kViolated);
+  EXPECT_EQ(ClassifyCondition(odd, PointCondition::DerivativeValue(0, 0.8)), ConditionOnSubspace::kKept);
+  EXPECT_EQ(ClassifyCondition(half_wave, PointCondition::Value(0, 0)), ConditionOnSubspace::kKept);
+  // A model whose condition the guess's reversal would violate does not get it:
+  // the launched oscillator with a cosine guess (even) and x'(0) = v.
+  Model model = LoadModel("tests/pipeline/models/launched-softening.yaml", {}, EquationsRoute::kOriginal);
+  const HarmonicSolution guess = GuessAtOrder(model, 10);
+  HarmonicSolution cosine = guess;
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(guess.coefficients().rows(), guess.coefficients().cols());
+  c(0, 1) = 1;  // x = cos(w t), x' = -w sin(w t): even x
+  c(1, 2) = -guess.frequencies()[0];
+  cosine = HarmonicSolution(guess.basis(), guess.frequencies(), c, guess.variables());
+  EXPECT_EQ(ImposeGuessSymmetries(cosine, &model), 1);  // the half-wave map only
+  ASSERT_EQ(model.problem.symmetries.size(), 1u);
+  EXPECT_FALSE(model.problem.symmetries[0].reverses_time);
 }
 
 TEST(DefaultTarget, PeriodicModelsMeetItAgainstTheExactPeriod) {

@@ -77,7 +77,7 @@ def test_stability_of_a_torus_is_hills_exponent_checked_by_lyapunov():
 
 def test_a_non_physical_solution_is_not_called_converged():
     # HDHB aliasing on the relativistic oscillator (the CLI exits 5 on it).
-    s = rmhb.Model("relativistic", beta=0.95).solve(order=16, method="hdhb", start="guess")
+    s = rmhb.Model("relativistic", beta=0.99).solve(order=12, method="hdhb", start="guess")
     assert s.status == "non_physical" and not s.converged
     assert json.loads(s.to_json())["physical"] is False
 
