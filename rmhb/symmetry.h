@@ -19,6 +19,10 @@
 // caller asserts it, e.g. because the initial state is symmetric; a wrong
 // assertion shows as a solve that does not converge or a trajectory check
 // that fails. What can be checked here is that the system is invariant.
+//
+// A time reversal theta -> -theta (reverses_time) splits each harmonic
+// instead: an even solution has its cosines only, an odd one its sines
+// (DetectTimeReversals; METHOD.md s.8).
 
 #include <string>
 #include <vector>
