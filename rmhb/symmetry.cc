@@ -120,26 +120,22 @@ std::vector<HalfTurnSymmetry> DetectHalfTurnSymmetries(const PolynomialSystem& s
   return found;
 }
 
-namespace {
-
-// +1 or -1 when g(-t, s z) = +-g(t, z) at a few points within the domain of
-// the usual nonlinearities (|z| <= 1/2), 0 otherwise (as the recast's
-// half-wave test, METHOD.md s.13).
-int PointwiseReversalSign(const PointwiseEquation& e, const HalfTurnSymmetry& s, const std::vector<double>& w) {
-  const std::size_t n = e.slots.size();
-  std::vector<double> in(1 + n + w.size()), flipped(in.size()), out(1 + n), out_flipped(1 + n);
+int PointwiseEquationSign(const PointwiseEquation& e, const std::vector<double>& frequencies, double mirror,
+                          double shift, const std::vector<int>& slot_sign) {
+  const std::size_t n = e.slots.size(), d = frequencies.size();
+  std::vector<double> in(1 + n + d), mapped(in.size()), out(1 + n), out_mapped(1 + n);
   int sign = 0;
   for (int point = 0; point < 6; ++point) {
     in[0] = 0.37 + 1.3 * point;
-    flipped[0] = -in[0];
+    mapped[0] = mirror * in[0] + shift;
     for (std::size_t i = 0; i < n; ++i) {
       in[1 + i] = 0.5 * std::sin(1.7 * point + 2.3 * double(i) + 0.4);
-      flipped[1 + i] = s.SlotSign(e.slots[i]) * in[1 + i];
+      mapped[1 + i] = slot_sign[i] * in[1 + i];
     }
-    for (std::size_t b = 0; b < w.size(); ++b) in[1 + n + b] = flipped[1 + n + b] = w[b];
+    for (std::size_t b = 0; b < d; ++b) in[1 + n + b] = mapped[1 + n + b] = frequencies[b];
     e.evaluate(in.data(), out.data());
-    e.evaluate(flipped.data(), out_flipped.data());
-    const double a = out[0], b = out_flipped[0], tol = 1e-12 * (1 + std::abs(a));
+    e.evaluate(mapped.data(), out_mapped.data());
+    const double a = out[0], b = out_mapped[0], tol = 1e-12 * (1 + std::abs(a));
     if (!std::isfinite(a) || !std::isfinite(b)) return 0;
     const int p = std::abs(a + b) <= tol ? -1 : std::abs(a - b) <= tol ? 1 : 0;
     if (p == 0 || (sign != 0 && p != sign && std::abs(a) > tol)) return 0;
@@ -147,8 +143,6 @@ int PointwiseReversalSign(const PointwiseEquation& e, const HalfTurnSymmetry& s,
   }
   return sign;
 }
-
-}  // namespace
 
 std::vector<HalfTurnSymmetry> DetectTimeReversals(const PolynomialSystem& system,
                                                   const std::vector<double>& frequencies) {
@@ -165,8 +159,11 @@ std::vector<HalfTurnSymmetry> DetectTimeReversals(const PolynomialSystem& system
     for (int i = 0; i < system.num_equations() && invariant; ++i)
       if (!system.equations()[i].pointwise) invariant = (s.equation_sign[i] = s.PolynomialSign(system, i, d)) != 0;
     for (int i = 0; i < system.num_equations() && invariant; ++i)
-      if (const auto& p = system.equations()[i].pointwise)
-        invariant = (s.equation_sign[i] = PointwiseReversalSign(*p, s, frequencies)) != 0;
+      if (const auto& p = system.equations()[i].pointwise) {
+        std::vector<int> slot_sign;
+        for (const Slot& slot : p->slots) slot_sign.push_back(s.SlotSign(slot));
+        invariant = (s.equation_sign[i] = PointwiseEquationSign(*p, frequencies, -1, 0, slot_sign)) != 0;
+      }
     if (!invariant) continue;
     s.description = Describe(system, s);
     found.push_back(std::move(s));

@@ -74,6 +74,15 @@ struct HalfTurnSymmetry {
   unsigned long Mask() const;
 };
 
+// How a pointwise equation g(t, z) transforms under t -> mirror t + shift,
+// z_i -> slot_sign[i] z_i (the base frequencies `frequencies` held): +1 or -1
+// when g maps to +-g at six points within the domain of the usual
+// nonlinearities (|z| <= 1/2), 0 when it does not (or is not finite there).
+// The half-wave map is mirror 1, shift T/2, every sign -1; a time reversal
+// mirror -1, shift 0.
+int PointwiseEquationSign(const PointwiseEquation& e, const std::vector<double>& frequencies, double mirror,
+                          double shift, const std::vector<int>& slot_sign);
+
 // The time reversals of `system` (t -> -t with z_j -> s_j z_j; one base or
 // several, all reversed): every equation keeps one sign, the polynomial ones
 // term by term, the pointwise ones at a few points with the base

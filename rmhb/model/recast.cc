@@ -781,31 +781,10 @@ class Recaster {
     return penalty > 0 && std::isfinite(penalty) ? ex(penalty) : ex(1);
   }
 
-  // +1 or -1 when g(t + T/2, -z) = +-g(t, z) at a few points within the
-  // domain of every test case here (|z| <= 1/2), 0 otherwise (or with
-  // several bases).
+  // g(t + T/2, -z) = +-g(t, z): +1 or -1, 0 when not (or with several bases).
   static int HalfWaveSign(const PointwiseEquation& e, const std::vector<double>& w) {
     if (w.size() != 1 || !(w[0] > 0)) return 0;
-    const std::size_t n = e.slots.size();
-    std::vector<double> in(2 + n), flipped(2 + n), out(1 + n), out_flipped(1 + n);
-    int sign = 0;
-    for (int point = 0; point < 6; ++point) {
-      in[0] = 0.37 + 1.3 * point;
-      flipped[0] = in[0] + M_PI / w[0];
-      for (std::size_t i = 0; i < n; ++i) {
-        in[1 + i] = 0.5 * std::sin(1.7 * point + 2.3 * double(i) + 0.4);
-        flipped[1 + i] = -in[1 + i];
-      }
-      in[1 + n] = flipped[1 + n] = w[0];
-      e.evaluate(in.data(), out.data());
-      e.evaluate(flipped.data(), out_flipped.data());
-      const double a = out[0], b = out_flipped[0], tol = 1e-12 * (1 + std::abs(a));
-      if (!std::isfinite(a) || !std::isfinite(b)) return 0;
-      const int s = std::abs(a + b) <= tol ? -1 : std::abs(a - b) <= tol ? 1 : 0;
-      if (s == 0 || (sign != 0 && s != sign && std::abs(a) > tol)) return 0;
-      if (std::abs(a) > tol) sign = s;
-    }
-    return sign;
+    return PointwiseEquationSign(e, w, 1, M_PI / w[0], std::vector<int>(e.slots.size(), -1));
   }
 
   // ---- conditions -------------------------------------------------------------------
