@@ -87,8 +87,9 @@ int PointwiseEquationSign(const PointwiseEquation& e, const std::vector<double>&
 // several, all reversed): every equation keeps one sign, the polynomial ones
 // term by term, the pointwise ones at a few points with the base
 // frequencies `frequencies` (e.g. x'' + (1 - x'^2)^(3/2) x = 0 under x -> -x,
-// or the pendulum's with x -> x). Listed without the compositions with the
-// pure sign flips among them; empty for more than 14 variables. A
+// or the pendulum's with x -> x). Every sign pattern that works is listed
+// (at most 64; the pendulum's x even and x odd both), the guess picks
+// (SymmetriesOf); empty for more than 14 variables. A
 // conservative oscillator released at rest (or launched from its centre)
 // has one: its solution is even (or odd) in t, half the unknowns again.
 std::vector<HalfTurnSymmetry> DetectTimeReversals(const PolynomialSystem& system,
