@@ -143,15 +143,10 @@ void CollocationResidual::SetUpLinearAlgebra() {
 void CollocationResidual::SetUpSymmetries() {
   if (problem_.symmetries.empty()) return;
   const int d = basis_.num_bases();
-  // Coefficient c of a variable belongs to harmonic (c + 1) / 2; even c > 0
-  // is its sine (which only a time reversal tells from the cosine).
-  auto allowed = [&](int coefficient, int sign, const HalfTurnSymmetry& s) {
-    return s.AllowsCoefficient(basis_.harmonic((coefficient + 1) / 2), coefficient > 0 && coefficient % 2 == 0, sign);
-  };
   for (int j = 0; j < n_; ++j)
     for (int c = 0; c < C_; ++c) {
       bool keep = true;
-      for (const auto& s : problem_.symmetries) keep = keep && allowed(c, s.sign[j], s);
+      for (const auto& s : problem_.symmetries) keep = keep && s.AllowsCoefficient(basis_, c, s.sign[j]);
       // In the condensed layout (column_ is j C_ without condensation).
       if (keep && column_[j] >= 0) kept_unknowns_.push_back(column_[j] + c);
     }
@@ -166,7 +161,7 @@ void CollocationResidual::SetUpSymmetries() {
     for (int c = skip; c < C_; ++c) {
       bool keep = true;
       for (size_t k = 0; k < signs.size(); ++k)
-        keep = keep && allowed(c, signs[k], problem_.symmetries[k]);
+        keep = keep && problem_.symmetries[k].AllowsCoefficient(basis_, c, signs[k]);
       if (keep) kept_residuals_.push_back(eq.first_row + c - skip);
     }
   }
@@ -297,6 +292,18 @@ bool CollocationResidual::ChainColumn(int j, int c, const std::vector<double>& r
   return true;
 }
 
+void CollocationResidual::AddToColumn(Eigen::MatrixXd* J, int column, int row, int count, double factor,
+                                      const double* values) const {
+  if (kept_unknowns_.empty()) {
+    J->col(column).segment(row, count) += factor * Eigen::Map<const Eigen::VectorXd>(values, count);
+    return;
+  }
+  const int c = reduced_column_[column];
+  if (c < 0) return;
+  for (int i = 0; i < count; ++i)
+    if (const int r = reduced_row_[row + i]; r >= 0) (*J)(r, c) += factor * values[i];
+}
+
 void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
                                            const Eigen::Ref<const Eigen::MatrixXd>& block, int j,
                                            const Eigen::VectorXd& X) const {
@@ -306,18 +313,18 @@ void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
   double factor = 0;
   for (int c = 0; c < C_; ++c)
     if ((!kept || kept[(c + 1) / 2]) && ChainColumn(j, c, rates_, &column, &factor))
-      J->col(column).segment(row, rows) += factor * block.col(c);
+      AddToColumn(J, column, row, rows, factor, block.col(c).data());
   if (column_[j] >= 0) return;
   // The definition's dependence on the unknown frequencies.
   const Definition& d = definitions_[j];
   const double* A = X.data() + d.source * C_;
   for (int b = 0; b < basis_.num_bases(); ++b) {
     if (unknown_index_[b] < 0) continue;
-    auto column = J->col(FrequencyColumn(b)).segment(row, rows);
     for (int k = 1; k < basis_.size(); ++k) {
       const double m = d.ratio * basis_.harmonic(k)[b];
-      if (m != 0 && (!kept || kept[k]))
-        column += m * (A[2 * k] * block.col(2 * k - 1) - A[2 * k - 1] * block.col(2 * k));
+      if (m == 0 || (kept && !kept[k])) continue;
+      AddToColumn(J, FrequencyColumn(b), row, rows, m * A[2 * k], block.col(2 * k - 1).data());
+      AddToColumn(J, FrequencyColumn(b), row, rows, -m * A[2 * k - 1], block.col(2 * k).data());
     }
   }
 }
@@ -775,15 +782,9 @@ bool CollocationResidual::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* re
   if (sampled_maps_eligible_) return EvaluateSampled(x, residual, jacobian);
   const Eigen::VectorXd& X = Layout(x);
   if (kept_unknowns_.empty()) return EvaluateFull(X, residual, jacobian);
-  const bool ok = EvaluateFull(X, &full_residual_, jacobian ? &full_jacobian_ : nullptr);
+  const bool ok = EvaluateFull(X, &full_residual_, jacobian);
   residual->resize(num_residuals_);
   for (int r = 0; r < num_residuals_; ++r) (*residual)(r) = full_residual_(kept_residuals_[r]);
-  if (jacobian) {
-    jacobian->resize(num_residuals_, num_unknowns_);
-    for (int c = 0; c < num_unknowns_; ++c)
-      for (int r = 0; r < num_residuals_; ++r)
-        (*jacobian)(r, c) = full_jacobian_(kept_residuals_[r], kept_unknowns_[c]);
-  }
   return ok;
 }
 
@@ -901,7 +902,7 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
   }
 
   residual->resize(full_residuals_);
-  if (jacobian) jacobian->setZero(full_residuals_, full_unknowns_);
+  if (jacobian) jacobian->setZero(num_residuals_, num_unknowns_);
   for (size_t i = 0; i < equations_.size(); ++i) {
     const CompiledEquation& eq = equations_[i];
     if (eq.first_row < 0) continue;  // condensed: satisfied by construction
@@ -941,7 +942,7 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
         SynthesizeVariable(j, coef_.data(), term_.data());
         term_.array() *= work_.array();
         ProjectEquation(i, term_.data());
-        jacobian->col(FrequencyColumn(b)).segment(eq.first_row, rows) += proj_.tail(rows);
+        AddToColumn(jacobian, FrequencyColumn(b), eq.first_row, rows, 1.0, proj_.data() + (C_ - rows));
       }
     }
   }
@@ -970,7 +971,7 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
             if (unknown_index_[b] < 0) continue;
             double d = 0;
             for (int k = 1; k < basis_.size(); ++k) d += basis_.harmonic(k)[b] * x(j * C_ + 2 * k);
-            (*jacobian)(row, FrequencyColumn(b)) += gdz(j) * d;
+            AddToColumn(jacobian, FrequencyColumn(b), row, 1, gdz(j), &d);
           }
         }
       }

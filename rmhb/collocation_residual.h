@@ -126,7 +126,10 @@ class CollocationResidual : public NonlinearProblem {
   // The linearisation's blocks at x, one (equation, slot) at a time.
   template <typename AddBlock>
   void ForEachBlock(const Eigen::VectorXd& x, AddBlock add);
-  // The residual and Jacobian on the full, unreduced unknowns.
+  // The residual on the full, unreduced rows; the Jacobian on the kept rows
+  // and unknowns (all of them when there is no symmetry): a reduced J is
+  // assembled in place, never as the full one cut down (at N = 55 that was
+  // a 100 KB matrix cleared per evaluation for 29 x 29 kept entries).
   bool EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                     Eigen::MatrixXd* jacobian);
   void SetUpSymmetries();
@@ -135,6 +138,10 @@ class CollocationResidual : public NonlinearProblem {
   void SetUpCondensation();
   // Condensed unknowns -> the full layout (defined variables computed).
   void Expand(const Eigen::VectorXd& x, Eigen::VectorXd* full) const;
+  // J(full rows row.., full column) += factor * values[0 .. count): into
+  // the kept rows and column only when symmetries reduce J.
+  void AddToColumn(Eigen::MatrixXd* jacobian, int column, int row, int count, double factor,
+                   const double* values) const;
   // J(row.., columns of variable j) += block (rows x C_), with the chain rule
   // through a definition when j was condensed away; X is the full layout.
   void AddVariableBlock(Eigen::MatrixXd* jacobian, int row,
@@ -208,7 +215,6 @@ class CollocationResidual : public NonlinearProblem {
   // Reduced index -> full index; empty when there is no symmetry.
   std::vector<int> kept_unknowns_, kept_residuals_;
   Eigen::VectorXd full_x_, full_residual_;
-  Eigen::MatrixXd full_jacobian_;
   std::vector<int> unknown_index_;  // base -> unknown slot or -1
   // z_j = ratio * z_source' when condensed away (source >= 0).
   struct Definition {

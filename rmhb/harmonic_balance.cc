@@ -586,6 +586,22 @@ int Reach(const HarmonicBasis& basis) {
   return top;
 }
 
+// The problem held to the symmetries its first converged solution has,
+// into first->symmetries_found (to 1e-11: Newton from an asymmetric start
+// lands on a symmetric solution up to round-off), for the solves at higher
+// orders: half the unknowns per symmetry, the same solutions, since the
+// equations are equivariant (METHOD.md s.8). A forced model without a guess
+// is seeded by its simulated motion, whose other parity is not zero to
+// 1e-14: the order selection after its first solve runs on the subspace.
+HarmonicBalanceProblem HeldToSymmetriesOf(const HarmonicBalanceProblem& problem, HarmonicBalanceSummary* first) {
+  HarmonicBalanceProblem working = problem;
+  if (!first->converged() || !first->solution) return working;
+  first->symmetries_found = SymmetriesOf(*first->solution, ImposableSymmetries(problem), problem.symmetries, 1e-11);
+  working.symmetries.insert(working.symmetries.end(), first->symmetries_found.begin(),
+                            first->symmetries_found.end());
+  return working;
+}
+
 // Several bases without a fixed shape: from the diamond of options.order
 // with the guess's harmonics (identified lines, when the guess came from a
 // trajectory), enrich until the estimate meets the tolerance. orders_tried
@@ -602,16 +618,7 @@ HarmonicBalanceSummary SelectIndexSet(const HarmonicBalanceProblem& problem, con
   basis = HarmonicBasis::FromHarmonics(d, start, Reach(basis), "adaptive");
   HarmonicBalanceSummary current = SolveAtOrder(problem, guess, o, &basis);
   std::vector<int> tried = {basis.order()};
-  // The symmetries of the equations that the first solution has (to 1e-11:
-  // Newton from an asymmetric guess lands on a symmetric solution up to
-  // round-off), imposed from then on: a quarter of the unknowns per pair.
-  HarmonicBalanceProblem working = problem;
-  if (current.converged() && current.solution) {
-    const std::vector<HalfTurnSymmetry> found = SymmetriesOf(
-        *current.solution, DetectHalfTurnSymmetries(problem.system, d), problem.symmetries, 1e-11);
-    current.symmetries_found = found;
-    working.symmetries.insert(working.symmetries.end(), found.begin(), found.end());
-  }
+  const HarmonicBalanceProblem working = HeldToSymmetriesOf(problem, &current);
   const std::vector<HalfTurnSymmetry> symmetries_found = current.symmetries_found;
   std::optional<HarmonicSolution> lower;
   double threshold = 1e-2 * options.tolerance;
@@ -708,6 +715,7 @@ HarmonicBalanceSummary MeasureSampling(const HarmonicBalanceProblem& problem, Ha
     const double shift = FrequencyDifference(a, b);
     next.sampling_estimate = StateDifference(a, b, DecayModel::kAlgebraic);
     next.orders_tried = current.orders_tried;
+    next.symmetries_found = current.symmetries_found;
     next.tolerance = current.tolerance;
     next.tolerance_quantity = current.tolerance_quantity;
     next.estimate_calibrated = current.estimate_calibrated;
@@ -790,6 +798,8 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
                        s.solver.message;
     return s;
   };
+  const HarmonicBalanceProblem working = HeldToSymmetriesOf(problem, &current);
+  const std::vector<HalfTurnSymmetry> symmetries_found = current.symmetries_found;
   // The largest order whose dense Jacobian fits: the sizes grow with the order.
   int fits = o.order;
   for (int lo = o.order, hi = options.max_order; lo <= hi;) {
@@ -811,7 +821,7 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
       // difference for the lower solution's whole error (EstimateTruncation).
       below.order = std::max(1, decay == DecayModel::kAlgebraic ? o.order / 2 : o.order - std::max(2, o.order / 5));
       below.order_continuation = false;
-      const HarmonicBalanceSummary check = SolveAtOrder(problem, *current.solution, below);
+      const HarmonicBalanceSummary check = SolveAtOrder(working, *current.solution, below);
       if (check.converged() && check.solution) {
         lower = check.solution;
         e = EstimateTruncation(*current.solution, &*lower, decay);
@@ -847,12 +857,13 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
       HarmonicBalanceOptions coarse = n;
       coarse.samples = {LadderSamples(problem, n.order)};
       if (coarse.solver.method == SolverMethod::kAuto) coarse.solver.method = SolverMethod::kNewton;
-      on_coarse = SolveAtOrder(problem, *current.solution, coarse);
+      on_coarse = SolveAtOrder(working, *current.solution, coarse);
       if (on_coarse->converged()) n.samples = coarse.samples;
     }
     HarmonicBalanceSummary higher = on_coarse && on_coarse->converged()
                                         ? std::move(*on_coarse)
-                                        : SolveAtOrder(problem, *current.solution, n);
+                                        : SolveAtOrder(working, *current.solution, n);
+    higher.symmetries_found = symmetries_found;
     tried.push_back(n.order);
     if (!higher.converged() || !higher.solution)
       // The last converged solution stands, with its estimate.
@@ -865,7 +876,7 @@ HarmonicBalanceSummary SelectOrder(const HarmonicBalanceProblem& problem,
   current.orders_tried = tried;
   if (decay == DecayModel::kAlgebraic) {
     std::string why;
-    current = MeasureSampling(problem, std::move(current), o, options, &why);
+    current = MeasureSampling(working, std::move(current), o, options, &why);
     if (!why.empty()) return stop(current, why);
   }
   return current;

@@ -31,4 +31,21 @@ void HarmonicBalanceProblem::Validate() const {
   }
 }
 
+bool HalfTurnsKeepConditions(const HarmonicBalanceProblem& problem) {
+  return problem.frequencies.size() > 1 || problem.conditions.empty();
+}
+
+std::vector<HalfTurnSymmetry> ImposableSymmetries(const HarmonicBalanceProblem& problem) {
+  std::vector<HalfTurnSymmetry> found;
+  if (HalfTurnsKeepConditions(problem))
+    found = DetectHalfTurnSymmetries(problem.system, static_cast<int>(problem.frequencies.size()));
+  for (HalfTurnSymmetry& reversal : DetectTimeReversals(problem.system, problem.frequencies)) {
+    bool violated = false;
+    for (const PointCondition& c : problem.conditions)
+      violated = violated || ClassifyCondition(reversal, c) == ConditionOnSubspace::kViolated;
+    if (!violated) found.push_back(std::move(reversal));
+  }
+  return found;
+}
+
 }  // namespace rmhb

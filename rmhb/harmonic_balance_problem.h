@@ -34,6 +34,15 @@ struct HarmonicBalanceProblem {
   void Validate() const;
 };
 
+// The symmetries of the problem's equations that a solution can be held to
+// with its conditions (METHOD.md s.8): half-turns when there are several
+// bases or no conditions (one base's half-turn moves t = 0 to T/2, where
+// the conditions need not hold: Kepler's ellipse from a circular guess
+// failed), time reversals unless their subspace violates a condition.
+// Whether a solution has one is SymmetriesOf's to tell.
+bool HalfTurnsKeepConditions(const HarmonicBalanceProblem& problem);
+std::vector<HalfTurnSymmetry> ImposableSymmetries(const HarmonicBalanceProblem& problem);
+
 }  // namespace rmhb
 
 #endif  // RMHB_HARMONIC_BALANCE_PROBLEM_H_

@@ -215,7 +215,7 @@ std::vector<HalfTurnSymmetry> SymmetriesOf(const HarmonicSolution& guess, const 
     double off = 0;
     for (int j = 0; j < c.rows(); ++j)
       for (int col = 0; col < c.cols(); ++col)
-        if (!s.AllowsCoefficient(basis.harmonic((col + 1) / 2), col > 0 && col % 2 == 0, s.sign[j]))
+        if (!s.AllowsCoefficient(basis, col, s.sign[j]))
           off = std::max(off, std::abs(c(j, col)));
     if (off > tolerance * scale) continue;
     // A guess whose flipped variables are all zero (rest, where cos x = 1 is

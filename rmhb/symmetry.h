@@ -55,6 +55,12 @@ struct HalfTurnSymmetry {
   bool AllowsCoefficient(const std::vector<int>& harmonic, bool sine, int sign) const {
     return (reverses_time && sine ? -Parity(harmonic) : Parity(harmonic)) == sign;
   }
+  // The same for coefficient c of a variable's row on `basis` (the layout of
+  // HarmonicSolution: c = 0 the constant, 2k - 1 and 2k harmonic k's cosine
+  // and sine).
+  bool AllowsCoefficient(const HarmonicBasis& basis, int c, int sign) const {
+    return AllowsCoefficient(basis.harmonic((c + 1) / 2), c > 0 && c % 2 == 0, sign);
+  }
 
   // The sign with which equation `equation` of `system` transforms: every
   // monomial must give the same one (variables and derivatives by their

@@ -399,12 +399,10 @@ HarmonicSolution GuessAtOrder(const Model& model, int order) {
 }
 
 void DetectInvariances(Model* model) {
-  // One base: only without conditions (a forced system). A half-turn maps
-  // t = 0 to t = T/2, so conditions at t = 0 are not equivariant and a
-  // symmetric start need not stay symmetric (Kepler's ellipse from a circle).
+  // Half-turns for one base only without conditions (HalfTurnsKeepConditions).
   const HarmonicBalanceProblem& p = model->problem;
   const size_t bases = p.frequencies.size();
-  if (model->invariances.empty() && (bases > 1 || (bases == 1 && p.conditions.empty())))
+  if (model->invariances.empty() && bases > 0 && HalfTurnsKeepConditions(p))
     model->invariances = DetectHalfTurnSymmetries(p.system, static_cast<int>(bases));
   // Time reversals keep t = 0 where it is: conditions there are equivariant.
   for (HalfTurnSymmetry& reversal : DetectTimeReversals(p.system, p.frequencies)) {

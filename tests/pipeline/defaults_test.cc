@@ -112,6 +112,34 @@ TEST(Symmetry, AForcedFileSolvesOnHalfTheUnknowns) {
   for (const HalfTurnSymmetry& s : autonomous.invariances) EXPECT_TRUE(s.reverses_time) << s.description;
 }
 
+// A start without the symmetry (the forced quintic's guess with 1e-2 of the
+// second harmonic, as a simulated seed has the other parity's transient):
+// Newton lands on the symmetric solution anyway, and order selection holds
+// the higher orders to the symmetry the first solution has. The result is
+// the full problem's at the order chosen, from the same start.
+TEST(Symmetry, OrderSelectionHoldsHigherOrdersToTheFirstSolutionsSymmetry) {
+  const PreparedSolve prepared = PrepareSolve(LoadModel("tests/pipeline/models/forced-quintic.yaml"), SolveSettings{});
+  HarmonicBalanceOptions options = prepared.options;
+  options.tolerance = 1e-10;  // the CLI's default target
+  Eigen::MatrixXd c = prepared.guess.coefficients();
+  c(0, 3) += 1e-2;  // x's cos 2 W t
+  const HarmonicSolution asymmetric(prepared.guess.basis(), prepared.guess.frequencies(), c,
+                                    prepared.model.problem.system.variables());
+  ASSERT_TRUE(SymmetriesOf(asymmetric, prepared.model.invariances, {}).empty());
+  const HarmonicBalanceSummary held = SolveHarmonicBalance(prepared.model.problem, asymmetric, options);
+  ASSERT_TRUE(held.usable()) << held.FullReport();
+  ASSERT_EQ(held.symmetries_found.size(), 1u) << held.FullReport();
+  EXPECT_GE(held.orders_tried.size(), 2u) << held.FullReport();  // a higher order solved on the subspace
+
+  HarmonicBalanceOptions fixed = options;
+  fixed.tolerance = 0;  // one order, no selection: nothing imposed
+  fixed.order = held.order;
+  const HarmonicBalanceSummary full = SolveHarmonicBalance(prepared.model.problem, asymmetric.OnBasis(HarmonicBasis::Periodic(held.order)), fixed);
+  ASSERT_TRUE(full.usable()) << full.FullReport();
+  EXPECT_LE(2 * held.solver.num_unknowns, full.solver.num_unknowns + 1);
+  EXPECT_LT((full.solution->coefficients() - held.solution->coefficients()).cwiseAbs().maxCoeff(), 1e-13);
+}
+
 // Solved through SolveModel (the symmetries the guess has imposed) and as
 // the full problem from the same guess: the same solution.
 struct ReducedAndFull {
