@@ -32,7 +32,10 @@ void HarmonicBalanceProblem::Validate() const {
 }
 
 bool HalfTurnsKeepConditions(const HarmonicBalanceProblem& problem) {
-  return problem.frequencies.size() > 1 || problem.conditions.empty();
+  if (problem.frequencies.size() > 1) return true;
+  for (const PointCondition& c : problem.conditions)
+    if (c.pinned_variable < 0) return false;
+  return true;  // none, or recast pins only (equivariant: rmhb/point_condition.h)
 }
 
 std::vector<HalfTurnSymmetry> ImposableSymmetries(const HarmonicBalanceProblem& problem) {

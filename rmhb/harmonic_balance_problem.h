@@ -36,9 +36,10 @@ struct HarmonicBalanceProblem {
 
 // The symmetries of the problem's equations that a solution can be held to
 // with its conditions (METHOD.md s.8): half-turns when there are several
-// bases or no conditions (one base's half-turn moves t = 0 to T/2, where
-// the conditions need not hold: Kepler's ellipse from a circular guess
-// failed), time reversals unless their subspace violates a condition.
+// bases or no conditions but recast pins (one base's half-turn moves t = 0
+// to T/2, where a user's condition need not hold: Kepler's ellipse from a
+// circular guess failed), time reversals unless their subspace violates a
+// condition.
 // Whether a solution has one is SymmetriesOf's to tell.
 bool HalfTurnsKeepConditions(const HarmonicBalanceProblem& problem);
 std::vector<HalfTurnSymmetry> ImposableSymmetries(const HarmonicBalanceProblem& problem);

@@ -31,7 +31,8 @@ PointCondition PointCondition::Pinned(int j, int k, std::function<double(double)
               (*gz)(k) -= df(z(k));
             }
             return z(j) - f(z(k));
-          }};
+          },
+          j};
 }
 
 }  // namespace rmhb

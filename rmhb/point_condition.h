@@ -19,6 +19,11 @@ struct PointCondition {
   std::function<double(const Eigen::VectorXd& z, const Eigen::VectorXd& dz,
                        Eigen::VectorXd* grad_z, Eigen::VectorXd* grad_dz)>
       function;
+  // A recast pin (METHOD.md eq. 24): the variable whose constant term it
+  // fixes, z_j(0) = its definition at t = 0, or -1. A pin holds at every t
+  // for the definition's values, so it is equivariant under every symmetry
+  // the definitions have, and implied where a symmetry drops z_j's constant.
+  int pinned_variable = -1;
 
   // z_j(0) = target.
   static PointCondition Value(int variable, double target, std::string description = "");

@@ -172,6 +172,11 @@ std::vector<HalfTurnSymmetry> DetectTimeReversals(const PolynomialSystem& system
 }
 
 ConditionOnSubspace ClassifyCondition(const HalfTurnSymmetry& s, const PointCondition& condition) {
+  // A pin fixes a constant term its equation does not balance; where the
+  // subspace has no such constant (an odd auxiliary), the pin is implied by
+  // the auxiliary's equation and the definition's own parity.
+  const int pinned = condition.pinned_variable;
+  if (pinned >= 0 && pinned < static_cast<int>(s.sign.size()) && s.sign[pinned] < 0) return ConditionOnSubspace::kHolds;
   if (!s.reverses_time) return ConditionOnSubspace::kKept;
   for (int h : s.half_turn)
     if (h) return ConditionOnSubspace::kKept;

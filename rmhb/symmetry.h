@@ -106,7 +106,9 @@ std::vector<HalfTurnSymmetry> DetectTimeReversals(const PolynomialSystem& system
 // kept (it reads a value that is free there), holding identically (it reads
 // only zeros and is met: its row is dropped, e.g. x'(0) = 0 for an even x)
 // or violated (it reads only zeros and is not met: no solution has the
-// symmetry). Any other symmetry keeps every condition.
+// symmetry). A recast pin of a variable the symmetry flips (whose constant
+// term the subspace drops) holds there too: implied, its row dropped. Any
+// other condition is kept under a half-turn.
 enum class ConditionOnSubspace { kKept, kHolds, kViolated };
 ConditionOnSubspace ClassifyCondition(const HalfTurnSymmetry& symmetry, const PointCondition& condition);
 

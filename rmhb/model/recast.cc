@@ -178,6 +178,7 @@ class Recaster {
       Guarded([&] {
         result.problem.conditions.push_back(
             MakeCondition(a.sym - def, "pin " + a.name + "(0) = " + internal::Print(def)));
+        result.problem.conditions.back().pinned_variable = a.index;
       });
     }
     source_ = -1;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -206,6 +207,48 @@ TEST(Symmetry, TimeReversalsKeepSinesOrCosinesOnly) {
   // Damping breaks it.
   for (const HalfTurnSymmetry& s : LoadModel("tests/pipeline/models/forced-quintic.yaml").invariances)
     EXPECT_FALSE(s.reverses_time) << s.description;
+}
+
+// A forced file on the recast: its only conditions are the auxiliaries'
+// pins, which hold at every t, so the half-turn is imposed with them; the
+// pins of the flipped auxiliaries (tanh, sin: no constant term on the
+// subspace) are implied and dropped, the cosine's is kept. The reduced
+// solution solves the full problem (Newton on it stops at once) and
+// CVODE's trajectory.
+TEST(Symmetry, RecastPinsKeepTheHalfTurn) {
+  SolveSettings settings;
+  settings.order = 24;
+  settings.order_given = true;
+  const PreparedSolve prepared =
+      PrepareSolve(LoadModel("tests/pipeline/models/forced-sine-tanh.yaml", {}, EquationsRoute::kRecast), settings);
+  const HarmonicBalanceProblem& full = prepared.model.problem;
+  ASSERT_EQ(full.conditions.size(), 3u);
+  ASSERT_EQ(prepared.model.invariances.size(), 1u);
+  const HalfTurnSymmetry& half_turn = prepared.model.invariances[0];
+  EXPECT_FALSE(half_turn.reverses_time);
+  std::vector<ConditionOnSubspace> kinds;
+  for (const PointCondition& c : full.conditions) {
+    ASSERT_GE(c.pinned_variable, 0) << c.description;
+    kinds.push_back(ClassifyCondition(half_turn, c));
+    EXPECT_EQ(kinds.back() == ConditionOnSubspace::kHolds, half_turn.sign[c.pinned_variable] < 0) << c.description;
+  }
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), ConditionOnSubspace::kHolds), 2);
+
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.validate = true;
+  options.validate_periods = 20;
+  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  ASSERT_EQ(s.symmetries.size(), 1u) << s.FullReport();
+  ASSERT_TRUE(s.validation.has_value());
+  EXPECT_LT(s.validation->verdict.relative_error, 1e-9) << s.FullReport();
+  const HarmonicBalanceSummary& reduced = s.harmonic_balance;
+  const HarmonicBalanceSummary check = SolveHarmonicBalance(full, *reduced.solution, prepared.options);
+  ASSERT_TRUE(check.usable()) << check.FullReport();
+  EXPECT_LE(check.solver.iterations, 1) << check.FullReport();
+  EXPECT_LE(2 * reduced.solver.num_unknowns, check.solver.num_unknowns + 1);
+  EXPECT_LT((check.solution->coefficients() - reduced.solution->coefficients()).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 // What a condition at t = 0 is on a reversal's subspace: x(0) is zero where
