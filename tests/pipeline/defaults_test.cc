@@ -75,24 +75,31 @@ void ExpectTargetMet(const std::string& file, const Gap& gap, double A) {
   EXPECT_LE(v.max_error / A, 1e-10);
 }
 
+// A model file prepared at a given order, and solved through SolveModel (the
+// symmetries its guess has imposed) with CVODE's check over 20 periods.
+PreparedSolve PreparedAtOrder(const std::string& file, int order, EquationsRoute route = EquationsRoute::kRecast) {
+  SolveSettings settings;
+  settings.order = order;
+  settings.order_given = true;
+  return PrepareSolve(LoadModel(file, {}, route), settings);
+}
+SolveSummary SolveAndValidate(const PreparedSolve& prepared) {
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.validate = true;
+  options.validate_periods = 20;
+  return SolveModel(prepared.model, prepared.guess, options);
+}
+
 // A forced file (no conditions) whose equations are odd under x -> -x with
 // t + T/2 gets that half-turn from its symmetric guess: half the unknowns,
 // the full solve's answer, and CVODE's trajectory from the solution's own
 // state. One with an even term, or with conditions (which a half-turn moves
 // from t = 0 to T/2), gets none.
 TEST(Symmetry, AForcedFileSolvesOnHalfTheUnknowns) {
-  const std::string file = "tests/pipeline/models/forced-quintic.yaml";
-  const Model model = LoadModel(file);
-  ASSERT_FALSE(model.invariances.empty());
-  SolveSettings settings;
-  settings.order = 20;
-  settings.order_given = true;
-  const PreparedSolve prepared = PrepareSolve(model, settings);
-  SolveOptions options;
-  options.harmonic_balance = prepared.options;
-  options.validate = true;
-  options.validate_periods = 20;
-  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  const PreparedSolve prepared = PreparedAtOrder("tests/pipeline/models/forced-quintic.yaml", 20);
+  ASSERT_FALSE(prepared.model.invariances.empty());
+  const SolveSummary s = SolveAndValidate(prepared);
   ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
   ASSERT_EQ(s.symmetries.size(), 1u) << s.FullReport();
   ASSERT_TRUE(s.validation.has_value());
@@ -148,16 +155,8 @@ struct ReducedAndFull {
   HarmonicBalanceSummary full;
 };
 ReducedAndFull SolveBothWays(const std::string& file, int order, EquationsRoute route) {
-  SolveSettings settings;
-  settings.order = order;
-  settings.order_given = true;
-  const PreparedSolve prepared = PrepareSolve(LoadModel(file, {}, route), settings);
-  SolveOptions options;
-  options.harmonic_balance = prepared.options;
-  options.validate = true;
-  options.validate_periods = 20;
-  return {SolveModel(prepared.model, prepared.guess, options),
-          SolveHarmonicBalance(prepared.model.problem, prepared.guess, prepared.options)};
+  const PreparedSolve prepared = PreparedAtOrder(file, order, route);
+  return {SolveAndValidate(prepared), SolveHarmonicBalance(prepared.model.problem, prepared.guess, prepared.options)};
 }
 
 bool ReversesTime(const SolveSummary& s) {
@@ -216,11 +215,7 @@ TEST(Symmetry, TimeReversalsKeepSinesOrCosinesOnly) {
 // solution solves the full problem (Newton on it stops at once) and
 // CVODE's trajectory.
 TEST(Symmetry, RecastPinsKeepTheHalfTurn) {
-  SolveSettings settings;
-  settings.order = 24;
-  settings.order_given = true;
-  const PreparedSolve prepared =
-      PrepareSolve(LoadModel("tests/pipeline/models/forced-sine-tanh.yaml", {}, EquationsRoute::kRecast), settings);
+  const PreparedSolve prepared = PreparedAtOrder("tests/pipeline/models/forced-sine-tanh.yaml", 24);
   const HarmonicBalanceProblem& full = prepared.model.problem;
   ASSERT_EQ(full.conditions.size(), 3u);
   ASSERT_EQ(prepared.model.invariances.size(), 1u);
@@ -234,11 +229,7 @@ TEST(Symmetry, RecastPinsKeepTheHalfTurn) {
   }
   EXPECT_EQ(std::count(kinds.begin(), kinds.end(), ConditionOnSubspace::kHolds), 2);
 
-  SolveOptions options;
-  options.harmonic_balance = prepared.options;
-  options.validate = true;
-  options.validate_periods = 20;
-  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  const SolveSummary s = SolveAndValidate(prepared);
   ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
   ASSERT_EQ(s.symmetries.size(), 1u) << s.FullReport();
   ASSERT_TRUE(s.validation.has_value());
