@@ -151,9 +151,10 @@ struct HarmonicBalanceSummary {
   // (the status then says not converged unless options.soft_tolerance): the
   // solution is good to the estimates, another start would not change them.
   bool short_of_target = false;
-  // Symmetries of the equations that the adaptive index set's first solve
-  // found in its solution and imposed from then on (continuation keeps
-  // imposing them along the branch).
+  // Symmetries of the equations that order selection or the adaptive index
+  // set found in its first converged solution (to 1e-11) and imposed from
+  // then on, and those a settled forced record had to 1e-9, imposed on the
+  // whole solve (Analyze); continuation keeps imposing them along the branch.
   std::vector<HalfTurnSymmetry> symmetries_found;
   // Set after a converged solve (options.check_physical): the algebra
   // converged (solver.status) but the solution is not an oscillation of the

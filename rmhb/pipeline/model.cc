@@ -399,7 +399,8 @@ HarmonicSolution GuessAtOrder(const Model& model, int order) {
 }
 
 void DetectInvariances(Model* model) {
-  // Half-turns for one base only without conditions (HalfTurnsKeepConditions).
+  // Half-turns for one base only without a user's conditions (recast pins
+  // are equivariant: HalfTurnsKeepConditions).
   const HarmonicBalanceProblem& p = model->problem;
   const size_t bases = p.frequencies.size();
   if (model->invariances.empty() && bases > 0 && HalfTurnsKeepConditions(p))

@@ -49,7 +49,7 @@ std::string Details(const SolveSummary& s) {
     out += "conditions   " + DefaultConditionsText(s.default_conditions, s.conditions_note) + "\n";
   for (const std::string& symmetry : s.symmetries) out += "symmetry     " + symmetry + " (the guess has it)\n";
   for (const HalfTurnSymmetry& symmetry : hb.symmetries_found)
-    out += "symmetry     " + symmetry.description + " (the first solution has it)\n";
+    out += "symmetry     " + symmetry.description + " (found: the recorded start or the first solution has it)\n";
   out += "status       " + s.status_word() + (hb.solver.message.empty() ? "" : ": ") + hb.solver.message + "\n";
   out += Format("residual     %.3e after %d iterations (%s)\n", hb.solver.final_residual, hb.solver.iterations,
                 ToString(hb.solver.method));

@@ -242,6 +242,29 @@ TEST(Symmetry, RecastPinsKeepTheHalfTurn) {
   EXPECT_LT((check.solution->coefficients() - reduced.solution->coefficients()).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// A forced file without a guess: rest fails, the settled simulated motion
+// seeds the solve, and the half-turn its spectrum has (to 1e-9; 1e-12 is
+// what the transient left) is imposed on that solve. The result solves the
+// full problem and CVODE's trajectory.
+TEST(Symmetry, ASettledStartKeepsItsSymmetry) {
+  const PreparedSolve prepared = PreparedAtOrder("tests/pipeline/models/forced-pendulum.yaml", 25);
+  const SolveSummary s = SolveAndValidate(prepared);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  EXPECT_NE(s.start_route.find("simulation"), std::string::npos) << s.FullReport();
+  EXPECT_TRUE(s.symmetries.empty());  // the guess (rest) says nothing
+  const HarmonicBalanceSummary& reduced = s.harmonic_balance;
+  ASSERT_EQ(reduced.symmetries_found.size(), 1u) << s.FullReport();
+  EXPECT_EQ(reduced.solver.num_unknowns, 77) << s.FullReport();
+  ASSERT_TRUE(s.validation.has_value());
+  EXPECT_LT(s.validation->verdict.relative_error, 1e-9) << s.FullReport();
+  const HarmonicBalanceSummary check = SolveHarmonicBalance(prepared.model.problem, *reduced.solution, prepared.options);
+  ASSERT_TRUE(check.usable()) << check.FullReport();
+  EXPECT_LE(check.solver.iterations, 1) << check.FullReport();
+  EXPECT_EQ(check.solver.num_unknowns, 153);
+  // 1/cond(J) ~ 1e-6 here: round-off moves a Newton step's result by ~1e-12.
+  EXPECT_LT((check.solution->coefficients() - reduced.solution->coefficients()).cwiseAbs().maxCoeff(), 1e-10);
+}
+
 // What a condition at t = 0 is on a reversal's subspace: x(0) is zero where
 // x is odd, x'(0) where it is even.
 TEST(Symmetry, ConditionsOnATimeReversalsSubspace) {
