@@ -587,6 +587,18 @@ void CheckArguments(const ContinuationProblem& problem, const ContinuationOption
   if (problem.period_multiple < 1) throw std::invalid_argument("ContinuationProblem::period_multiple must be >= 1");
 }
 
+// Whether the equations keep `symmetry` halfway and at the end of the range
+// too: a parameter may multiply a term that breaks it (a x^2 from a = 0),
+// and a branch held to it there would have no tangent or a wrong solution.
+bool KeptAlong(const ContinuationProblem& problem, const HalfTurnSymmetry& symmetry) {
+  for (double value : {0.5 * (problem.start + problem.end), problem.end}) {
+    const std::vector<HalfTurnSymmetry> there = ImposableSymmetries(problem.build(value));
+    if (std::none_of(there.begin(), there.end(), [&](const HalfTurnSymmetry& s) { return s.Mask() == symmetry.Mask(); }))
+      return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 ContinuationSummary TraceBranch(const ContinuationProblem& problem, const HarmonicSolution& guess,
@@ -621,11 +633,14 @@ ContinuationSummary TraceBranch(const ContinuationProblem& problem, const Harmon
     return finish();
   }
   // The solved basis (order selection or the adaptive index set may have
-  // moved it from the options', METHOD.md s.8), and the symmetries the
-  // adaptive set found and imposed: the branch stays in that symmetric
-  // subspace (Newton's iterates from a symmetric point do), at a quarter of
-  // the unknowns per pair of reflections.
-  const std::vector<HalfTurnSymmetry> found = solved.symmetries_found;
+  // moved it from the options', METHOD.md s.8), and the symmetries order
+  // selection or the adaptive set found and imposed, where the equations
+  // keep them along the range: the branch stays in that symmetric subspace
+  // (Newton's iterates from a symmetric point do), at a quarter of the
+  // unknowns per pair of reflections.
+  std::vector<HalfTurnSymmetry> found;
+  for (const HalfTurnSymmetry& s : solved.symmetries_found)
+    if (KeptAlong(problem, s)) found.push_back(s);
   const ParameterizedResidual::Build build = [&problem, found](double value) {
     HarmonicBalanceProblem p = problem.build(value);
     p.symmetries.insert(p.symmetries.end(), found.begin(), found.end());

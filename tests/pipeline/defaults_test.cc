@@ -13,6 +13,7 @@
 #include <functional>
 
 #include "rmhb/harmonic_balance.h"
+#include "rmhb/pipeline/branch.h"
 #include "rmhb/pipeline/settings.h"
 #include "rmhb/pipeline/solve.h"
 
@@ -263,6 +264,35 @@ TEST(Symmetry, ASettledStartKeepsItsSymmetry) {
   EXPECT_EQ(check.solver.num_unknowns, 153);
   // 1/cond(J) ~ 1e-6 here: round-off moves a Newton step's result by ~1e-12.
   EXPECT_LT((check.solution->coefficients() - reduced.solution->coefficients()).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+// A continuation started with a target holds its branch to the symmetries
+// the first solution has only where the equations keep them along the
+// range: at a = 0 the half-turn holds, a x^2 breaks it (held anyway, the
+// trace stopped at once: "no tangent at the start"). The end point is the
+// direct solve's at a = 0.6, with its even harmonics.
+TEST(Symmetry, ABranchIsHeldOnlyToSymmetriesKeptAlongTheRange) {
+  const PreparedSolve p = PreparedAtOrder("tests/pipeline/models/symmetry-breaking-parameter.yaml", 25);
+  ContinueOptions o;
+  o.parameter = "a";
+  o.from = 0;
+  o.to = 0.6;
+  o.max_step = 0.2;
+  o.harmonic_balance = p.options;
+  o.harmonic_balance.tolerance = 1e-8;
+  const BranchSummary b = ContinueModel(p.model, p.guess, o);
+  ASSERT_EQ(b.status, BranchStatus::kCompleted) << b.FullReport();
+  const ContinuationPoint& last = b.continuation.points.back();
+  ASSERT_NEAR(last.parameter, 0.6, 1e-12);
+  EXPECT_GT(std::abs(last.solution.coefficients()(0, 3)), 1e-3);  // x's cos 2 W t
+  HarmonicBalanceOptions fixed = p.options;
+  fixed.tolerance = 0;
+  fixed.order = last.solution.basis().order();
+  const HarmonicBalanceSummary direct =
+      SolveHarmonicBalance(WithParameters(p.model, {{"a", 0.6}}).problem, last.solution, fixed);
+  ASSERT_TRUE(direct.usable()) << direct.FullReport();
+  EXPECT_LE(direct.solver.iterations, 1);
+  EXPECT_LT((direct.solution->coefficients() - last.solution.coefficients()).cwiseAbs().maxCoeff(), 1e-10);
 }
 
 // What a condition at t = 0 is on a reversal's subspace: x(0) is zero where
