@@ -587,16 +587,20 @@ void CheckArguments(const ContinuationProblem& problem, const ContinuationOption
   if (problem.period_multiple < 1) throw std::invalid_argument("ContinuationProblem::period_multiple must be >= 1");
 }
 
-// Whether the equations keep `symmetry` halfway and at the end of the range
-// too: a parameter may multiply a term that breaks it (a x^2 from a = 0),
-// and a branch held to it there would have no tangent or a wrong solution.
-bool KeptAlong(const ContinuationProblem& problem, const HalfTurnSymmetry& symmetry) {
+// Those of `found` that the equations keep halfway and at the end of the
+// range too: a parameter may multiply a term that breaks one (a x^2 from
+// a = 0), and a branch held to it there would have no tangent or a wrong
+// solution.
+std::vector<HalfTurnSymmetry> KeptAlong(const ContinuationProblem& problem, std::vector<HalfTurnSymmetry> found) {
   for (double value : {0.5 * (problem.start + problem.end), problem.end}) {
+    if (found.empty()) break;
     const std::vector<HalfTurnSymmetry> there = ImposableSymmetries(problem.build(value));
-    if (std::none_of(there.begin(), there.end(), [&](const HalfTurnSymmetry& s) { return s.Mask() == symmetry.Mask(); }))
-      return false;
+    auto lost = [&](const HalfTurnSymmetry& s) {
+      return std::none_of(there.begin(), there.end(), [&](const HalfTurnSymmetry& t) { return t.Mask() == s.Mask(); });
+    };
+    found.erase(std::remove_if(found.begin(), found.end(), lost), found.end());
   }
-  return true;
+  return found;
 }
 
 }  // namespace
@@ -638,9 +642,7 @@ ContinuationSummary TraceBranch(const ContinuationProblem& problem, const Harmon
   // keep them along the range: the branch stays in that symmetric subspace
   // (Newton's iterates from a symmetric point do), at a quarter of the
   // unknowns per pair of reflections.
-  std::vector<HalfTurnSymmetry> found;
-  for (const HalfTurnSymmetry& s : solved.symmetries_found)
-    if (KeptAlong(problem, s)) found.push_back(s);
+  const std::vector<HalfTurnSymmetry> found = KeptAlong(problem, solved.symmetries_found);
   const ParameterizedResidual::Build build = [&problem, found](double value) {
     HarmonicBalanceProblem p = problem.build(value);
     p.symmetries.insert(p.symmetries.end(), found.begin(), found.end());

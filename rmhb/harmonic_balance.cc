@@ -590,9 +590,7 @@ int Reach(const HarmonicBasis& basis) {
 // into first->symmetries_found (to 1e-11: Newton from an asymmetric start
 // lands on a symmetric solution up to round-off), for the solves at higher
 // orders: half the unknowns per symmetry, the same solutions, since the
-// equations are equivariant (METHOD.md s.8). A forced model without a guess
-// is seeded by its simulated motion, whose other parity is not zero to
-// 1e-14: the order selection after its first solve runs on the subspace.
+// equations are equivariant (METHOD.md s.8).
 HarmonicBalanceProblem HeldToSymmetriesOf(const HarmonicBalanceProblem& problem, HarmonicBalanceSummary* first) {
   HarmonicBalanceProblem working = problem;
   if (!first->converged() || !first->solution) return working;

@@ -42,13 +42,15 @@ std::vector<HalfTurnSymmetry> ImposableSymmetries(const HarmonicBalanceProblem& 
   std::vector<HalfTurnSymmetry> found;
   if (HalfTurnsKeepConditions(problem))
     found = DetectHalfTurnSymmetries(problem.system, static_cast<int>(problem.frequencies.size()));
-  for (HalfTurnSymmetry& reversal : DetectTimeReversals(problem.system, problem.frequencies)) {
-    bool violated = false;
-    for (const PointCondition& c : problem.conditions)
-      violated = violated || ClassifyCondition(reversal, c) == ConditionOnSubspace::kViolated;
-    if (!violated) found.push_back(std::move(reversal));
-  }
+  for (HalfTurnSymmetry& reversal : DetectTimeReversals(problem.system, problem.frequencies))
+    if (ViolatesNoCondition(reversal, problem.conditions)) found.push_back(std::move(reversal));
   return found;
+}
+
+bool ViolatesNoCondition(const HalfTurnSymmetry& symmetry, const std::vector<PointCondition>& conditions) {
+  for (const PointCondition& c : conditions)
+    if (ClassifyCondition(symmetry, c) == ConditionOnSubspace::kViolated) return false;
+  return true;
 }
 
 }  // namespace rmhb

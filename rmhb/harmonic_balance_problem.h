@@ -42,6 +42,8 @@ struct HarmonicBalanceProblem {
 // condition.
 // Whether a solution has one is SymmetriesOf's to tell.
 bool HalfTurnsKeepConditions(const HarmonicBalanceProblem& problem);
+// Whether no condition is violated on the symmetry's subspace (ClassifyCondition).
+bool ViolatesNoCondition(const HalfTurnSymmetry& symmetry, const std::vector<PointCondition>& conditions);
 std::vector<HalfTurnSymmetry> ImposableSymmetries(const HarmonicBalanceProblem& problem);
 
 }  // namespace rmhb

@@ -416,12 +416,8 @@ void DetectInvariances(Model* model) {
 int ImposeGuessSymmetries(const HarmonicSolution& guess, Model* model) {
   // Not one whose subspace violates a condition (x(0) = 1 for an odd x).
   std::vector<HalfTurnSymmetry> candidates;
-  for (const HalfTurnSymmetry& s : model->invariances) {
-    bool violated = false;
-    for (const PointCondition& c : model->problem.conditions)
-      violated = violated || ClassifyCondition(s, c) == ConditionOnSubspace::kViolated;
-    if (!violated) candidates.push_back(s);
-  }
+  for (const HalfTurnSymmetry& s : model->invariances)
+    if (ViolatesNoCondition(s, model->problem.conditions)) candidates.push_back(s);
   const std::vector<HalfTurnSymmetry> held = SymmetriesOf(guess, candidates, model->problem.symmetries);
   model->problem.symmetries.insert(model->problem.symmetries.end(), held.begin(), held.end());
   return static_cast<int>(held.size());
