@@ -143,6 +143,8 @@ void CollocationResidual::SetUpLinearAlgebra() {
 void CollocationResidual::SetUpSymmetries() {
   if (problem_.symmetries.empty()) return;
   const int d = basis_.num_bases();
+  kept_unknowns_.reserve(full_unknowns_);
+  kept_residuals_.reserve(full_residuals_);
   for (int j = 0; j < n_; ++j)
     for (int c = 0; c < C_; ++c) {
       bool keep = true;
@@ -201,6 +203,7 @@ void CollocationResidual::SetUpKeptHarmonics() {
     }
   auto coefficients = [&](const std::vector<char>& harmonics) {
     std::vector<int> kept;
+    kept.reserve(C_);
     for (int c = 0; c < C_; ++c)
       if (harmonics[(c + 1) / 2]) kept.push_back(c);
     return kept;
