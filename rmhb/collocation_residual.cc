@@ -303,8 +303,12 @@ void CollocationResidual::AddToColumn(Eigen::MatrixXd* J, int column, int row, i
   }
   const int c = reduced_column_[column];
   if (c < 0) return;
-  for (int i = 0; i < count; ++i)
-    if (const int r = reduced_row_[row + i]; r >= 0) (*J)(r, c) += factor * values[i];
+  // Only the kept rows of [row, row + count): kept_residuals_ is ascending
+  // (equations in order, then the conditions), so they are one run of it;
+  // a quarter of the rows under a half-wave symmetry with a time reversal.
+  const auto first = std::lower_bound(kept_residuals_.begin(), kept_residuals_.end(), row);
+  for (auto it = first; it != kept_residuals_.end() && *it < row + count; ++it)
+    (*J)(static_cast<int>(it - kept_residuals_.begin()), c) += factor * values[*it - row];
 }
 
 void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
@@ -920,8 +924,16 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
       EvaluateSamples(eq, s, work_.data());
       const int j = slots_[s].variable;
       const double* rates = slots_[s].derivative ? rates_.data() : nullptr;
-      block_.setZero(C_, C_);
-      if ((work_.array() == work_(0)).all()) {
+      const bool constant = (work_.array() == work_(0)).all();
+      // AddVariableBlock reads the kept harmonics' columns only: those are
+      // all a reduced J needs cleared (a constant partial writes them all).
+      if (constant || column_harmonics_.empty()) {
+        block_.setZero(C_, C_);
+      } else {
+        block_.resize(C_, C_);
+        for (int c : column_coefficients_[j]) block_.col(c).setZero();
+      }
+      if (constant) {
         transform_->AddConstantMultiplication(work_(0), rates, block_);  // a linear term
       } else {
         transform_->Analyze(work_.data());
