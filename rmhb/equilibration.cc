@@ -39,67 +39,80 @@ Equilibration IdentityEquilibration(int rows, int columns) {
 
 namespace {
 
-// Ruiz's sweeps; maxima(e, row_max, column_max) sets the row and column
-// maxima of |D_r J D_c| (zero for an empty row or column).
+// Ruiz's sweeps into *e (its storage reused); maxima(e, row_max, column_max)
+// sets the row and column maxima of |D_r J D_c| (zero for an empty row or
+// column). The maxima live in the thread's own buffers: the Monte Carlo
+// equilibrates hundreds of thousands of 7 x 7 Jacobians, where five
+// allocations were most of the cost.
 template <class Maxima>
-Equilibration Sweeps(Eigen::Index m, Eigen::Index n, int max_sweeps, Maxima maxima) {
-  Equilibration e = IdentityEquilibration(static_cast<int>(m), static_cast<int>(n));
-  Eigen::VectorXd row_max(m), column_max(n);
-  for (e.sweeps = 0; e.sweeps < max_sweeps;) {
-    maxima(e, row_max, column_max);
+void Sweeps(Eigen::Index m, Eigen::Index n, int max_sweeps, Maxima maxima, Equilibration* e) {
+  e->row.setOnes(m);
+  e->column.setOnes(n);
+  thread_local Eigen::VectorXd row_max, column_max;
+  row_max.resize(m);
+  column_max.resize(n);
+  for (e->sweeps = 0; e->sweeps < max_sweeps;) {
+    maxima(*e, row_max, column_max);
     bool changed = false;
     for (Eigen::Index i = 0; i < m; ++i) {
       const double f = InverseSqrtPowerOfTwo(row_max(i));
-      if (f != 1.0) e.row(i) *= f, changed = true;
+      if (f != 1.0) e->row(i) *= f, changed = true;
     }
     for (Eigen::Index j = 0; j < n; ++j) {
       const double f = InverseSqrtPowerOfTwo(column_max(j));
-      if (f != 1.0) e.column(j) *= f, changed = true;
+      if (f != 1.0) e->column(j) *= f, changed = true;
     }
     if (!changed) break;
-    ++e.sweeps;
+    ++e->sweeps;
   }
-  return e;
 }
 
 }  // namespace
 
+void Equilibrate(const Eigen::MatrixXd& J, Equilibration* e, int max_sweeps) {
+  // A fused pass per sweep over raw columns.
+  const Eigen::Index m = J.rows();
+  Sweeps(m, J.cols(), max_sweeps,
+         [&](const Equilibration& e, Eigen::VectorXd& row_max, Eigen::VectorXd& column_max) {
+           row_max.setZero();
+           const double* r = e.row.data();
+           double* rm = row_max.data();
+           for (Eigen::Index j = 0; j < J.cols(); ++j) {
+             const double* a = J.col(j).data();
+             const double c = e.column(j);
+             double cm = 0;
+             for (Eigen::Index i = 0; i < m; ++i) {
+               const double v = std::abs(a[i]) * r[i] * c;
+               cm = std::max(cm, v);
+               rm[i] = std::max(rm[i], v);
+             }
+             column_max(j) = cm;
+           }
+         },
+         e);
+}
+
 Equilibration Equilibrate(const Eigen::MatrixXd& J, int max_sweeps) {
-  // |J| once, then a fused pass per sweep over raw columns: the Monte Carlo
-  // equilibrates hundreds of thousands of 14 x 14 Jacobians.
-  const Eigen::MatrixXd A = J.cwiseAbs();
-  const Eigen::Index m = A.rows();
-  return Sweeps(m, A.cols(), max_sweeps,
-                [&](const Equilibration& e, Eigen::VectorXd& row_max, Eigen::VectorXd& column_max) {
-                  row_max.setZero();
-                  const double* r = e.row.data();
-                  double* rm = row_max.data();
-                  for (Eigen::Index j = 0; j < A.cols(); ++j) {
-                    const double* a = A.col(j).data();
-                    const double c = e.column(j);
-                    double cm = 0;
-                    for (Eigen::Index i = 0; i < m; ++i) {
-                      const double v = a[i] * r[i] * c;
-                      cm = std::max(cm, v);
-                      rm[i] = std::max(rm[i], v);
-                    }
-                    column_max(j) = cm;
-                  }
-                });
+  Equilibration e;
+  Equilibrate(J, &e, max_sweeps);
+  return e;
 }
 
 Equilibration Equilibrate(const Eigen::SparseMatrix<double>& J, int max_sweeps) {
-  return Sweeps(J.rows(), J.cols(), max_sweeps,
-                [&](const Equilibration& e, Eigen::VectorXd& row_max, Eigen::VectorXd& column_max) {
-                  row_max.setZero();
-                  column_max.setZero();
-                  for (Eigen::Index j = 0; j < J.outerSize(); ++j)
-                    for (Eigen::SparseMatrix<double>::InnerIterator it(J, j); it; ++it) {
-                      const double a = std::abs(it.value()) * e.row(it.row()) * e.column(it.col());
-                      column_max(it.col()) = std::max(column_max(it.col()), a);
-                      row_max(it.row()) = std::max(row_max(it.row()), a);
-                    }
-                });
+  Equilibration e;
+  Sweeps(J.rows(), J.cols(), max_sweeps,
+         [&](const Equilibration& e, Eigen::VectorXd& row_max, Eigen::VectorXd& column_max) {
+           row_max.setZero();
+           column_max.setZero();
+           for (Eigen::Index j = 0; j < J.outerSize(); ++j)
+             for (Eigen::SparseMatrix<double>::InnerIterator it(J, j); it; ++it) {
+               const double a = std::abs(it.value()) * e.row(it.row()) * e.column(it.col());
+               column_max(it.col()) = std::max(column_max(it.col()), a);
+               row_max(it.row()) = std::max(row_max(it.row()), a);
+             }
+         },
+         &e);
+  return e;
 }
 
 }  // namespace rmhb

@@ -39,6 +39,8 @@ struct Equilibration {
 // and column max of D_r J D_c is in [1/2, 2)), or after max_sweeps (then
 // nearly so).
 Equilibration Equilibrate(const Eigen::MatrixXd& J, int max_sweeps = 20);
+// The same into *e, reusing its storage (no allocation once sized).
+void Equilibrate(const Eigen::MatrixXd& J, Equilibration* e, int max_sweeps = 20);
 // The same for a sparse J (its stored entries).
 Equilibration Equilibrate(const Eigen::SparseMatrix<double>& J, int max_sweeps = 20);
 

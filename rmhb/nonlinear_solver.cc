@@ -171,10 +171,11 @@ class Jacobian {
     return Eigen::Map<const Eigen::VectorXd>(sparse_.valuePtr(), sparse_.nonZeros()).allFinite();
   }
   // Of the dense J, the sparse J or the preconditioner (kept with it).
-  Equilibration Equilibrate() {
-    if (dense_form()) return rmhb::Equilibrate(dense_);
+  // Into *e, reusing its storage.
+  void Equilibrate(Equilibration* e) {
+    if (dense_form()) return rmhb::Equilibrate(dense_, e);
     if (scaled_version_ != version_) scaling_ = rmhb::Equilibrate(sparse_), scaled_version_ = version_;
-    return scaling_;
+    *e = scaling_;
   }
   const Eigen::MatrixXd& dense() const { return dense_; }
   const Eigen::SparseMatrix<double>& sparse() const { return sparse_; }
@@ -620,7 +621,7 @@ SolverSummary SolveWith(NonlinearProblem& problem, Eigen::VectorXd* x,
   Equilibration scaling = IdentityEquilibration(s.num_residuals, s.num_unknowns);
   bool stale = true;  // J changed since `scaling` was computed
   auto rescale = [&] {
-    if (scaled && stale) scaling = J.Equilibrate();
+    if (scaled && stale) J.Equilibrate(&scaling);
     stale = false;
   };
   auto scaled_norm = [&](const Eigen::VectorXd& residual) {
