@@ -72,6 +72,27 @@ TEST(Equilibration, WellScaledMatrixIsLeftExactlyAlone) {
   EXPECT_TRUE(z.row.allFinite() && z.column.allFinite());
 }
 
+// The solver's in-place form: the same factors as a fresh equilibration,
+// whatever sizes and factors its storage held before, and that storage
+// reused once it has the right size.
+TEST(Equilibration, InPlaceGivesTheSameFactorsInItsOwnStorage) {
+  Eigen::VectorXd rows(6), columns(6);
+  rows << 4, -3, 0, 7, -6, 2;
+  columns << -5, 1, 8, 0, -2, 3;
+  const Eigen::MatrixXd J = InUnits(TestMatrix(6), rows, columns);
+  const Equilibration fresh = Equilibrate(J);
+  Equilibration e = Equilibrate(InUnits(TestMatrix(4), rows.head(4), columns.head(4)));
+  Equilibrate(J, &e);
+  EXPECT_EQ(e.row, fresh.row);
+  EXPECT_EQ(e.column, fresh.column);
+  EXPECT_EQ(e.sweeps, fresh.sweeps);
+  const double* storage = e.row.data();
+  Equilibrate(Eigen::MatrixXd(J.transpose()), &e);
+  EXPECT_EQ(e.row.data(), storage);
+  EXPECT_EQ(e.row, fresh.column);
+  EXPECT_EQ(e.column, fresh.row);
+}
+
 // G(X) = X^3 + A X - b = 0 with the exact root X* (b made from it), written
 // in units: x = Q X, F(x) = P G(Q^-1 x), P and Q spanning 1e-9..1e9 like a
 // MEMS model in SI units. `extra_row` appends the consistent equation
