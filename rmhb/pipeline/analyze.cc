@@ -143,7 +143,8 @@ std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const Analyz
   stage.record = Record(model, record_options, bases);
   stage.integrator = OriginalIntegrator(model, stage.record.integrator.method);
   auto t0 = Clock::now();
-  Eigen::VectorXd y0 = model.initial_state;
+  // A forced motion settles from rest by itself.
+  Eigen::VectorXd y0 = settle ? model.initial_state : RecordStart(model, &stage.rest_perturbation);
   if (settle) {
     try {
       y0 = SettledState(model, StartOptions{}, &stage.settle_periods);
@@ -411,11 +412,16 @@ void ReportIdentification(const AnalyzeSummary& s, Stages* out) {
              s.trajectory->samples, record.transient, record.t_end, record.dt) +
       (s.trajectory->settle_periods > 0
            ? " after the motion settled (" + std::to_string(s.trajectory->settle_periods) + " periods)"
+           : std::string()) +
+      (s.trajectory->rest_perturbation != 0
+           ? StringPrintf(" from the start + %g in every state (the start is an equilibrium)",
+                          s.trajectory->rest_perturbation)
            : std::string()));
   out->stages["trajectory"] = {{"seconds", s.trajectory->seconds}, {"samples", s.trajectory->samples},
                                {"transient", record.transient}, {"t_end", record.t_end}, {"dt", record.dt},
                                {"relative_tolerance", record.integrator.relative_tolerance},
-                               {"settle_periods", s.trajectory->settle_periods}};
+                               {"settle_periods", s.trajectory->settle_periods},
+                               {"rest_perturbation", s.trajectory->rest_perturbation}};
   if (!s.identification) return;
   const frequency_id::IdentificationSummary& id = *s.identification;
   json& identify = out->stages["identify"];

@@ -69,6 +69,12 @@ struct RecordStage {
   seeding::RecordOptions record;
   std::string integrator;  // OriginalIntegrator: "CVODE Adams", "CVODE BDF", "IDA BDF"
   int settle_periods = 0;  // periods integrated until the motion settled (0: a fixed transient)
+  // An autonomous model whose start (its initial_state, else the guess's
+  // state, else rest) is an equilibrium is recorded from that state plus
+  // this in every state component: the motion from an equilibrium never
+  // leaves it, and a self-excited orbit is reached from next to it. 0: the
+  // start as given.
+  double rest_perturbation = 0;
   int samples = 0;
   double seconds = 0;
 };

@@ -68,9 +68,11 @@ IdentifySummary Identify(const Model& model, const IdentifyOptions& o) {
                                          : integrators::IntegratorOptions::Method::kAdams;
   // A conservative motion's torus is the one its initial state fixes.
   const auto start = std::chrono::steady_clock::now();
-  frequency_id::Signal signal = RecordOriginal(model, w, model.initial_state, record);
+  double perturbation = 0;
+  frequency_id::Signal signal = RecordOriginal(model, w, RecordStart(model, &perturbation), record);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   IdentifySummary s = IdentifyRecord(std::move(signal), known, o);
+  s.rest_perturbation = perturbation;
   s.integration_seconds = seconds;
   s.integrator = OriginalIntegrator(model);
   return s;
@@ -91,6 +93,11 @@ std::string IdentifySummary::FullReport() const {
     std::snprintf(line, sizeof line, "trajectory: %s, %d samples over %.6g time units, %.1f ms\n", integrator.c_str(),
                   identification.num_samples, identification.duration, integration_seconds * 1e3);
     out += line;
+    if (rest_perturbation != 0) {
+      std::snprintf(line, sizeof line, "  from the initial state + %g in every state (it is an equilibrium)\n",
+                    rest_perturbation);
+      out += line;
+    }
   }
   return out;
 }
@@ -115,6 +122,7 @@ json IdentifySummary::ToJson() const {
           {"channels", id.channel_names},
           {"samples", id.num_samples},
           {"duration", id.duration},
+          {"rest_perturbation", rest_perturbation},
           {"seconds", {{"integration", integration_seconds}, {"identification", id.total_seconds}}}};
 }
 

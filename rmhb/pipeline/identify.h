@@ -43,6 +43,7 @@ struct IdentifySummary {
   frequency_id::Signal signal;     // the record identified (after the cuts)
   double integration_seconds = 0;  // a model's record only
   std::string integrator;          // a model's record only
+  double rest_perturbation = 0;    // added to an equilibrium start (RecordStart)
 
   bool usable() const { return identification.IsUsable(); }
   std::string BriefReport() const;

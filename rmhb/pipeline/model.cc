@@ -433,6 +433,31 @@ const char* OriginalIntegrator(const Model& source) {
                                                  : integrators::IntegratorOptions::Method::kAdams);
 }
 
+Eigen::VectorXd RecordStart(const Model& model, double* perturbation) {
+  *perturbation = 0;
+  Eigen::VectorXd y0 = model.initial_state;
+  if (!model.original || y0.size() == 0) return y0;
+  const integrators::OdeSystem ode = model.original(model.problem.frequencies);
+  double slowest = HUGE_VAL;
+  for (double w : model.problem.frequencies) slowest = std::min(slowest, std::abs(w));
+  const double period = slowest > 0 && std::isfinite(slowest) ? 2 * M_PI / slowest : 1.0;
+  const double scale = std::max(1.0, y0.cwiseAbs().maxCoeff());
+  Eigen::VectorXd ydot(y0.size());
+  // Irrational fractions of the period: no forcing term vanishes at all of them.
+  // A model that cannot be evaluated there is left to the integration to report.
+  try {
+    for (double fraction : {0.0, 0.1234567, 0.3819660, 0.7071068}) {
+      ode.rhs(fraction * period, y0.data(), ydot.data());
+      if (!(ydot.cwiseAbs().maxCoeff() <= 1e-14 * scale)) return y0;
+    }
+  } catch (const std::exception&) {
+    return y0;
+  }
+  *perturbation = kRestPerturbation;
+  y0.array() += kRestPerturbation;
+  return y0;
+}
+
 frequency_id::Signal RecordOriginal(const Model& source, const std::vector<double>& w,
                                     const Eigen::VectorXd& y0, const seeding::RecordOptions& record) {
   RequireOriginal(source);

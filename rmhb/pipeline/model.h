@@ -176,6 +176,18 @@ void DetectInvariances(Model* model);
 // the unknowns (an eighth of the factorisation) per symmetry.
 int ImposeGuessSymmetries(const HarmonicSolution& guess, Model* model);
 
+// Where a record that looks for the model's own motion (identify, analyze)
+// starts: its initial_state, left by kRestPerturbation in every state
+// component when that is an equilibrium of the original equations (f(t, y0)
+// = 0 at several times of the slowest period: a forced model's rest is not
+// one), since the motion from an equilibrium never leaves it while a
+// self-excited orbit is reached from next to it (a file with neither
+// initial_state nor guess starts at rest). Sets *perturbation to what was
+// added (0: none). Explicit ODEs only: a DAE's algebraic states must stay
+// consistent, its start is taken as given.
+constexpr double kRestPerturbation = 0.1;
+Eigen::VectorXd RecordStart(const Model& model, double* perturbation);
+
 // The model's original equations integrated by what they need: IDA for a
 // DAE, else CVODE (BDF when the model is stiff). They throw
 // std::invalid_argument with original_error when there are none.

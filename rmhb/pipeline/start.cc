@@ -118,7 +118,16 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
     AnalyzeOptions analyze;
     analyze.solve = options;
     const AnalyzeSummary a = Analyze(model, analyze);
-    if (a.solve && a.solve->usable()) return {*a.solve, "identification", out.note, 0};
+    if (a.solve && a.solve->usable()) {
+      std::string route = "identification";
+      if (a.trajectory && a.trajectory->rest_perturbation != 0) {
+        char from[96];
+        std::snprintf(from, sizeof from, " (recorded from the start + %g: the start is an equilibrium)",
+                      a.trajectory->rest_perturbation);
+        route += from;
+      }
+      return {*a.solve, route, out.note, 0};
+    }
     out.note += "; from identification: " + std::string(ToString(a.status)) + " " + a.message;
     return out;
   }

@@ -113,3 +113,60 @@ TEST(Start, AnalyzeWaitsForALightlyDampedMotionToSettle) {
 
 }  // namespace
 }  // namespace rmhb
+
+namespace rmhb {
+namespace {
+
+// An autonomous model file with neither guess nor initial state starts at
+// rest, an equilibrium of its equations: Newton from there converges to it
+// at once (non-physical: no oscillation), and a record from it stays there.
+// The identification records from rest + kRestPerturbation instead and
+// finds the self-excited orbit. Reference: Van der Pol's period at the same
+// mu (y = x' of Rayleigh's oscillator obeys Van der Pol's equation), solved
+// from the bundled example's own guess.
+TEST(Start, ASelfExcitedModelWithoutAnyStartLeavesItsRest) {
+  const Model model = LoadModel("tests/pipeline/models/rayleigh-from-rest.yaml");
+  double perturbation = -1;
+  EXPECT_EQ(RecordStart(model, &perturbation), Eigen::VectorXd::Constant(2, kRestPerturbation));
+  EXPECT_EQ(perturbation, kRestPerturbation);
+  HarmonicBalanceOptions options;
+  options.order = 40;
+  const StartedSolve s = SolveFromAnyStart(model, GuessAtOrder(model, 40), options);
+  ASSERT_TRUE(s.summary.usable()) << s.note;
+  EXPECT_NE(s.route.find("the start is an equilibrium"), std::string::npos) << s.route;
+  EXPECT_NE(s.note.find("equilibrium"), std::string::npos) << s.note;  // why the guess was left
+
+  const Model vdp = LoadModel("examples/models/vanderpol.yaml", {{"eps", 1.5}});
+  const HarmonicBalanceSummary reference = SolveHarmonicBalance(vdp.problem, GuessAtOrder(vdp, 40), options);
+  ASSERT_TRUE(reference.usable());
+  const double w = s.summary.solution->frequencies()[0], w_vdp = reference.solution->frequencies()[0];
+  EXPECT_NEAR(w, w_vdp, 1e-11 * w_vdp);
+  const integrators::ValidationReport v = ValidateOriginal(model, *s.summary.solution, 2 * M_PI / w);
+  ASSERT_TRUE(v.ok) << v.message;
+  EXPECT_LT(v.max_error, 1e-8);
+}
+
+// No orbit to find: a damped oscillator's perturbed rest decays back, and
+// the start says so rather than calling the equilibrium an orbit. A forced
+// model's rest is not an equilibrium (its forcing moves it), an initial
+// state off rest is kept as the user gave it.
+TEST(Start, OnlyAnEquilibriumStartIsPerturbed) {
+  const Model damped = LoadModel("tests/pipeline/models/damped-at-rest.yaml");
+  HarmonicBalanceOptions options;
+  options.order = 15;
+  const StartedSolve s = SolveFromAnyStart(damped, GuessAtOrder(damped, 15), options);
+  EXPECT_FALSE(s.summary.usable());
+  EXPECT_NE(s.note.find("from identification"), std::string::npos) << s.note;
+
+  double perturbation = -1;
+  const Model forced = LoadModel("tests/pipeline/models/forced-duffing.yaml");
+  ASSERT_EQ(forced.initial_state.cwiseAbs().maxCoeff(), 0.0);  // rest, but forced
+  EXPECT_EQ(RecordStart(forced, &perturbation), forced.initial_state);
+  EXPECT_EQ(perturbation, 0.0);
+  const Model vdp = LoadModel("examples/models/vanderpol.yaml");
+  EXPECT_EQ(RecordStart(vdp, &perturbation), vdp.initial_state);
+  EXPECT_EQ(perturbation, 0.0);
+}
+
+}  // namespace
+}  // namespace rmhb
