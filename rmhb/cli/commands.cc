@@ -174,7 +174,9 @@ int RunSolve(const SolveArgs& a) {
   out["model"] = a.settings.model;
   if (!a.eval.empty() && summary.converged()) out["eval"] = WriteEval(summary.solution(), a);
   if (!a.plot.empty() && summary.converged()) {
-    plot::PlotSolution(prepared.model, summary.solution(), a.plot);
+    // SolveModel may have fallen back on the original equations.
+    const bool fell_back = summary.equations != prepared.model.equations && prepared.model.original_equations;
+    plot::PlotSolution(fell_back ? prepared.model.original_equations() : prepared.model, summary.solution(), a.plot);
     out["plot"] = a.plot;
   }
   if (a.json)

@@ -322,6 +322,12 @@ Model ModelFromDefinition(const std::shared_ptr<const model::ModelDefinition>& p
     with.conditions_note = note;
     return with;
   }
+  // The recast's auxiliaries can fail where the equations as written do not
+  // (a steep tanh(20 x') recast through its derivative): SolveModel's last resort.
+  if (route == EquationsRoute::kRecast && recast->original_problem && HasAuxiliaries(recast->problem))
+    p.original_equations = [parsed, overrides] {
+      return ModelFromDefinition(parsed, overrides, EquationsRoute::kOriginal);
+    };
   DetectInvariances(&p);
   return p;
 }

@@ -97,6 +97,10 @@ struct Model {
   // route), and why kAuto chose them or kOriginal was not possible.
   std::string equations = "recast";
   std::string equations_note;
+  // A model file on the recast whose recast needs auxiliaries: the same model
+  // (parameters as loaded) on its original equations, for SolveModel to fall
+  // back on when the recast reaches no physical solution. Empty otherwise.
+  std::function<Model()> original_equations;
   // Set when the file gives no conditions and the model got default ones
   // (which, and why: ModelFromDefinition, rmhb/METHOD.md s.20).
   std::string conditions_note;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 #include "rmhb/pipeline/report.h"
@@ -223,6 +224,38 @@ json SolveSummary::ToJson() const {
   return out;
 }
 
+namespace {
+
+// What a start reached, for a note: its route and why it was not kept.
+std::string StartText(const StartedSolve& started) {
+  const HarmonicBalanceSummary& hb = started.summary;
+  std::string text = "from the " + started.route + ", ";
+  if (!hb.converged()) {
+    char residual[48];
+    std::snprintf(residual, sizeof residual, "not converged, max|F| %.3g", hb.solver.final_residual);
+    text += residual;
+  } else {
+    text += "non-physical: " + hb.non_physical;
+  }
+  return text + (started.note.empty() ? "" : " (" + started.note + ")");
+}
+
+// The model on its original equations, solved from every start at the same
+// order and target; nullopt when that reaches no physical solution either.
+std::optional<SolveSummary> SolveOnOriginalEquations(const Model& given, const SolveOptions& options) {
+  Model original = given.original_equations();
+  if (!given.frequency_settings.empty()) SetFrequencies(given.frequency_settings, &original);
+  if (original.conditions_note.empty()) original.conditions_note = given.conditions_note;
+  if (original.frequency_note.empty()) original.frequency_note = given.frequency_note;
+  original.equations_note = "original: the recast reached no physical solution";
+  SolveOptions o = options;
+  SolveSummary s = SolveModel(original, GuessAtOrder(original, o.harmonic_balance.order), o);
+  if (!s.harmonic_balance.usable()) return std::nullopt;
+  return s;
+}
+
+}  // namespace
+
 SolveSummary SolveModel(const Model& given, const HarmonicSolution& guess, const SolveOptions& options) {
   if (const std::string error = options.IsValid(); !error.empty()) throw std::invalid_argument(error);
   // The equations' symmetries that the guess has: half the unknowns, the
@@ -253,6 +286,18 @@ SolveSummary SolveModel(const Model& given, const HarmonicSolution& guess, const
                              ? SolveFromAnyStart(model, guess, options.harmonic_balance, options.start)
                              : StartedSolve{SolveHarmonicBalance(model.problem, guess, options.harmonic_balance),
                                             "guess", "", 0};
+  if (options.auto_start && !started.summary.usable() && given.original_equations) {
+    // Last resort: the equations as written (HB-AFT, METHOD.md s.13), every
+    // start again. Kept only when it reaches a physical solution.
+    std::optional<SolveSummary> original = SolveOnOriginalEquations(given, options);
+    if (original) {
+      original->start_route += " on the original equations";
+      original->start_note = "the recast reached no physical solution: " + StartText(started) +
+                             (original->start_note.empty() ? "" : "; ") + original->start_note;
+      return std::move(*original);
+    }
+    started.note += (started.note.empty() ? "" : "; ") + std::string("the original equations did not either");
+  }
   s.harmonic_balance = std::move(started.summary);
   s.start_route = started.route;
   s.start_note = started.note;

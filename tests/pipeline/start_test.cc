@@ -6,6 +6,8 @@
 #include "rmhb/pipeline/start.h"
 
 #include "rmhb/pipeline/analyze.h"
+#include "rmhb/pipeline/settings.h"
+#include "rmhb/pipeline/solve.h"
 
 #include <gtest/gtest.h>
 
@@ -166,6 +168,40 @@ TEST(Start, OnlyAnEquilibriumStartIsPerturbed) {
   const Model vdp = LoadModel("examples/models/vanderpol.yaml");
   EXPECT_EQ(RecordStart(vdp, &perturbation), vdp.initial_state);
   EXPECT_EQ(perturbation, 0.0);
+}
+
+}  // namespace
+}  // namespace rmhb
+
+namespace rmhb {
+namespace {
+
+// The recast's auxiliary of a steep tanh(10 x') fails from every start, the
+// equations as written do not: SolveModel falls back on them (and says so)
+// rather than ending not converged. Reference: CVODE from the solution's own
+// state (order 60: the kink-like term's truncation is ~3e-6 there).
+TEST(Start, ARecastThatReachesNoSolutionFallsBackOnTheOriginalEquations) {
+  SolveSettings settings;
+  settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve
+  settings.order = 60;
+  settings.order_given = true;
+  const PreparedSolve prepared = PrepareSolve(LoadModel("tests/pipeline/models/steep-friction.yaml"), settings);
+  ASSERT_EQ(prepared.model.equations, "recast");
+  ASSERT_TRUE(prepared.model.original_equations);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.validate = true;
+  options.validate_tolerance = 1e-5;
+  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  EXPECT_EQ(s.equations, "original");
+  EXPECT_NE(s.start_route.find("on the original equations"), std::string::npos) << s.start_route;
+  EXPECT_NE(s.start_note.find("the recast reached no physical solution"), std::string::npos) << s.start_note;
+  ASSERT_TRUE(s.validation && s.validation->report.ok);
+  EXPECT_LT(s.validation->verdict.relative_error, 1e-5);
+
+  options.auto_start = false;  // the guess only: no fallback either
+  EXPECT_EQ(SolveModel(prepared.model, prepared.guess, options).equations, "recast");
 }
 
 }  // namespace
