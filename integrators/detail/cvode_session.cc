@@ -223,6 +223,8 @@ int CvodeSession::Advance(double tout, double* t_reached) {
   constexpr long kChunk = 100'000;
   int flag = CV_TOO_MUCH_WORK;
   for (long left = remaining; left > 0 && flag == CV_TOO_MUCH_WORK; left -= kChunk) {
+    double t_before = *t_reached;
+    CVodeGetCurrentTime(mem_.get(), &t_before);
     CVodeSetMaxNumSteps(mem_.get(), std::min(left, kChunk));
     flag = CVode(mem_.get(), tout, y_.get(), t_reached, CV_NORMAL);
     if (flag != CV_TOO_MUCH_WORK) break;
@@ -231,6 +233,12 @@ int CvodeSession::Advance(double tout, double* t_reached) {
     CVodeGetLastStep(mem_.get(), &h_last);
     if (std::string stuck = RoundOffStopMessage(FlagName(CV_TOO_MUCH_WORK), h_last, t_current); !stuck.empty()) {
       failure_ = std::move(stuck);
+      return CV_TOO_MUCH_WORK;
+    }
+    if (std::string crawl = CrawlStopMessage(FlagName(CV_TOO_MUCH_WORK), t_before, t_current, tout,
+                                             std::min(left, kChunk), left - kChunk);
+        !crawl.empty()) {
+      failure_ = std::move(crawl);
       return CV_TOO_MUCH_WORK;
     }
   }

@@ -52,4 +52,18 @@ std::string RoundOffStopMessage(const std::string& flag_name, double h, double t
          "): the solution is singular there (a blow-up, a pole of the equations)";
 }
 
+std::string CrawlStopMessage(const std::string& flag_name, double t_before, double t, double tout, long steps,
+                             long steps_left) {
+  const double advance = std::abs(t - t_before), rest = std::abs(tout - t);
+  if (steps <= 0 || steps_left <= 0 || !(advance * double(steps_left) / double(steps) * 1000 < rest)) return "";
+  char what[256];
+  std::snprintf(what, sizeof(what),
+                "%ld steps advanced t by %.3g only, to t = %.17g (%.3g left to %.6g: at that pace far beyond the "
+                "%ld steps of the budget left)",
+                steps, advance, t, rest, tout, steps_left);
+  return flag_name + ": " + what +
+         ": the solution cannot pass there or slides along a discontinuity of the equations (dry friction "
+         "written with sign() sticking)";
+}
+
 }  // namespace rmhb::integrators::detail

@@ -40,6 +40,15 @@ std::string NonFiniteMessage(const char* callback, double t, int index, double v
 // only the step budget stopped it (10^7 steps, 16-20 s).
 std::string RoundOffStopMessage(const std::string& flag_name, double h, double t);
 
+// Empty unless a chunk of `steps` steps that took t from t_before to t left
+// the rest of the interval (to tout) out of reach of `steps_left` more at
+// that pace by a factor of 1000: a solution sliding along a discontinuity
+// of the right-hand side (sign(v) friction at stick) steps at ~1e-14 without
+// ever reaching the round-off of t, and only the budget (10^7 steps, ~10 s)
+// stopped it. Otherwise the flag, where, and why.
+std::string CrawlStopMessage(const std::string& flag_name, double t_before, double t, double tout, long steps,
+                             long steps_left);
+
 }  // namespace rmhb::integrators::detail
 
 #endif  // RMHB_INTEGRATORS_DETAIL_DIAGNOSTICS_H_

@@ -286,6 +286,35 @@ TEST(IntegrateOde, MaxStepsIsABudgetForTheWholeCall) {
   EXPECT_NE(result.BriefReport().find("failure"), std::string::npos);
 }
 
+// Coulomb friction written with sign(): x'' + 0.3 sign(x') + x = 0.6 cos(0.8 t)
+// from rest, at the simulated start's tolerances. While v > 0,
+// v(t) = c sin t - (0.6 / 0.36) 0.8 sin(0.8 t) with c = 0.6 / 0.36 - 0.3, and
+// the block sticks at v's first zero; there sign(v) chatters, CVODE steps at
+// ~1e-14, never at the round-off of t, and ran out the 10^7-step budget (~10 s
+// in a user's `solve` of such a file). Now the pace is seen within two
+// chunks, and the message says where.
+TEST(IntegrateOde, AStepCrawlingAlongADiscontinuityStopsEarly) {
+  OdeSystem friction;
+  friction.dimension = 2;
+  friction.rhs = [](double t, const double* y, double* ydot) {
+    ydot[0] = y[1];
+    ydot[1] = -0.3 * ((y[1] > 0) - (y[1] < 0)) - y[0] + 0.6 * std::cos(0.8 * t);
+  };
+  IntegratorOptions options;
+  options.relative_tolerance = 1e-11;
+  options.absolute_tolerance = 1e-13;
+  const IntegrationResult result = IntegrateOde(friction, Vec({0, 0}), 0.0, {10.0}, options);
+  ASSERT_FALSE(result.ok());
+  EXPECT_THAT(result.message, HasSubstr("advanced t by"));
+  EXPECT_LE(result.steps, 300'000);
+  const double c = 0.6 / 0.36 - 0.3;
+  auto v = [&](double t) { return c * std::sin(t) - 0.6 / 0.36 * 0.8 * std::sin(0.8 * t); };
+  double lo = 1.0, hi = 2.5;  // v > 0 at 1, < 0 at 2.5
+  for (int i = 0; i < 100; ++i) (v(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+  const double stopped = std::stod(result.message.substr(result.message.find("to t = ") + 7));
+  EXPECT_NEAR(stopped, lo, 1e-6);  // stuck where the motion sticks
+}
+
 // x'' = a / (1 - x)^2 from rest (a MEMS plate past pull-in): x reaches 1 at
 // T = pi / (2 sqrt(2 a)) with x' -> infinity, and CVODE's step falls to the
 // round-off of t there. It used to keep taking steps t + h = t until the
