@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "integrators/cvode_integrator.h"
 #include "rmhb/pipeline/analyze.h"
 
 namespace rmhb {
@@ -84,6 +85,46 @@ Eigen::VectorXd SettledState(const Model& model, const StartOptions& start, int*
                            " periods: not periodic at this forcing?");
 }
 
+double TorusSettleTime(const Model& model, const StartOptions& start, int* periods) {
+  if (!model.original) throw std::runtime_error("two motions side by side need explicit ODEs");
+  const integrators::OdeSystem one = model.original(model.problem.frequencies);
+  const int n = one.dimension;
+  integrators::OdeSystem both{2 * n, [one, n](double t, const double* y, double* ydot) {
+                                one.rhs(t, y, ydot);
+                                one.rhs(t, y + n, ydot + n);
+                              }};
+  const Eigen::VectorXd& y0 = model.initial_state;
+  Eigen::VectorXd y(2 * n);
+  y << y0, (y0.array() + 0.1 * std::max(1.0, y0.cwiseAbs().maxCoeff())).matrix();
+  double slowest = HUGE_VAL;
+  for (double w : model.problem.frequencies) slowest = std::min(slowest, std::abs(w));
+  const double T = 2 * M_PI / slowest;
+  integrators::IntegratorOptions io;
+  io.relative_tolerance = 1e-11;
+  io.absolute_tolerance = 1e-13;
+  const auto begin = std::chrono::steady_clock::now();
+  constexpr int kChunk = 25;
+  for (int done = 0; done < start.max_periods; done += kChunk) {
+    std::vector<double> times;
+    for (int k = 1; k <= kChunk; ++k) times.push_back((done + k) * T);
+    const integrators::IntegrationResult r = integrators::IntegrateOde(both, y, done * T, times, io);
+    if (!r.ok()) throw std::runtime_error("the two motions' integration stopped: " + r.message);
+    const Eigen::MatrixXd& s = r.trajectory.states;
+    for (int k = 0; k < kChunk; ++k) {
+      const double gap = (s.row(k).head(n) - s.row(k).tail(n)).lpNorm<Eigen::Infinity>();
+      if (gap <= start.settle_tolerance * std::max(1.0, s.row(k).head(n).lpNorm<Eigen::Infinity>())) {
+        *periods = done + k + 1;
+        return *periods * T;
+      }
+    }
+    y = s.row(kChunk - 1).transpose();
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count() > start.max_seconds)
+      throw std::runtime_error("two motions did not meet within " + std::to_string(done + kChunk) +
+                               " periods: another attractor, or not quasi-periodic?");
+  }
+  throw std::runtime_error("two motions did not meet within " + std::to_string(start.max_periods) + " periods");
+}
+
 StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess,
                                const HarmonicBalanceOptions& options, const StartOptions& start) {
   if (const std::string error = start.IsValid(); !error.empty()) throw std::invalid_argument("start: " + error);
@@ -114,7 +155,9 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
     out.note += "; restated on " + std::to_string(out.summary.repeats) + " w: " + Why(lifted);
   }
   std::string why;
-  if (Unknown(model.problem)) {
+  // A forced torus does not settle stroboscopically: like an unknown
+  // frequency, its trajectory is identified (on the known bases) and seeds it.
+  if (Unknown(model.problem) || model.problem.frequencies.size() > 1) {
     AnalyzeOptions analyze;
     analyze.solve = options;
     const AnalyzeSummary a = Analyze(model, analyze);
@@ -131,7 +174,6 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
     out.note += "; from identification: " + std::string(ToString(a.status)) + " " + a.message;
     return out;
   }
-  if (model.problem.frequencies.size() != 1) return out;  // a forced torus does not settle stroboscopically
   try {
     int periods = 0;
     const Eigen::VectorXd y = SettledState(model, start, &periods);

@@ -13,8 +13,10 @@
 //     record that follows, started at a multiple of the period so that the
 //     forcing's phase is kept, seeds the solve (rmhb/pipeline/analyze.h with
 //     the frequencies known);
-//  3. models with unknown frequencies: identification from a trajectory
-//     (the full Analyze pipeline).
+//  3. models with unknown frequencies, and forced tori (two or more known
+//     frequencies, no stroboscopic fixed point): identification from a
+//     trajectory (the full Analyze pipeline; a forced torus recorded once two
+//     motions have met, TorusSettleTime).
 // The route taken is reported. Nothing is found: the last attempt's summary,
 // with its residual.
 
@@ -47,6 +49,17 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
 // K; throws std::runtime_error (with why) when it does not settle within the
 // budget or the integration fails.
 Eigen::VectorXd SettledState(const Model& model, const StartOptions& start, int* periods);
+
+// A forced torus (every base frequency known, two or more) has no
+// stroboscopic fixed point, but its forcing fixes every phase: all motions
+// in the attractor's basin converge onto the same x(t). Two of them, from
+// the model's initial state and 0.1 max(1, |y0|) off it in every state, are
+// integrated side by side (explicit ODEs) in chunks of 25 slowest periods
+// until they agree to settle_tolerance max(1, |y|): the time when they do,
+// in periods of the slowest base via *periods. Throws std::runtime_error
+// when they do not within the budget (another attractor, chaos) or the
+// integration fails.
+double TorusSettleTime(const Model& model, const StartOptions& start, int* periods);
 
 }  // namespace rmhb
 

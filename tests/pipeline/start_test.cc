@@ -11,6 +11,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <complex>
+
 namespace rmhb {
 namespace {
 
@@ -202,6 +205,65 @@ TEST(Start, ARecastThatReachesNoSolutionFallsBackOnTheOriginalEquations) {
 
   options.auto_start = false;  // the guess only: no fallback either
   EXPECT_EQ(SolveModel(prepared.model, prepared.guess, options).equations, "recast");
+}
+
+}  // namespace
+}  // namespace rmhb
+
+namespace rmhb {
+namespace {
+
+// Two motions of x'' + c x' + x = F1 cos W1 t + F2 cos W2 t differ by the
+// homogeneous solution d from d(0) = d'(0) = 0.1 (the second starts 0.1 off
+// rest in both states), and the forced response is known in closed form:
+// TorusSettleTime must return the first whole slowest period at which
+// max(|d|, |d'|) <= 1e-9 max(1, |x|, |x'|).
+TEST(Start, TwoMotionsOfAForcedTorusMeetWhenTheHomogeneousPartHasDecayed) {
+  const Model model = LoadModel("tests/pipeline/models/two-tone-linear.yaml");
+  ASSERT_EQ(model.initial_state, Eigen::VectorXd::Zero(2));
+  int periods = 0;
+  const double settled = TorusSettleTime(model, StartOptions{}, &periods);
+  const double c = 0.2, a = c / 2, w = std::sqrt(1 - a * a), d0 = 0.1, b = (d0 + a * d0) / w;
+  const double F[2] = {0.5, 0.3}, W[2] = {0.6, 0.848528137423857}, T = 2 * M_PI / W[0];
+  auto gap = [&](double t) {
+    const double e = std::exp(-a * t);
+    const double d = e * (d0 * std::cos(w * t) + b * std::sin(w * t));
+    const double dv = e * ((b * w - a * d0) * std::cos(w * t) - (d0 * w + a * b) * std::sin(w * t));
+    return std::max(std::abs(d), std::abs(dv));
+  };
+  auto scale = [&](double t) {
+    double x = 0, v = 0;
+    for (int i = 0; i < 2; ++i) {
+      const std::complex<double> z(1 - W[i] * W[i], c * W[i]);
+      const double amplitude = F[i] / std::abs(z), phase = std::arg(z);
+      x += amplitude * std::cos(W[i] * t - phase);
+      v -= amplitude * W[i] * std::sin(W[i] * t - phase);
+    }
+    return std::max({1.0, std::abs(x), std::abs(v)});
+  };
+  EXPECT_DOUBLE_EQ(settled, periods * T);
+  EXPECT_LE(gap(settled), 1.05e-9 * scale(settled));
+  EXPECT_GT(gap(settled - T), 0.95e-9 * scale(settled - T));
+  for (int k = 1; k < periods - 1; ++k) EXPECT_GT(gap(k * T), 0.95e-9 * scale(k * T)) << k;
+}
+
+// The same with defaults on a Duffing oscillator: recorded only after its
+// transient has decayed (the default tenth of the record left e^-5 of it,
+// and the identification failed), identified on the known bases, solved and
+// checked against CVODE.
+TEST(Start, AForcedTorusWithoutAGuessIsRecordedOnceItHasSettled) {
+  SolveSettings settings;
+  settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve
+  const PreparedSolve prepared = PrepareSolve(LoadModel("tests/pipeline/models/two-tone-duffing.yaml"), settings);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.validate = true;
+  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  EXPECT_EQ(s.start_route, "identification");
+  EXPECT_EQ(s.solution().frequencies(), (std::vector<double>{1.3, 2.61}));
+  ASSERT_TRUE(s.validation && s.validation->report.ok);
+  EXPECT_LT(s.validation->verdict.relative_error, 1e-8);
 }
 
 }  // namespace
