@@ -6,6 +6,7 @@
 #include "rmhb/pipeline/start.h"
 
 #include "rmhb/pipeline/analyze.h"
+#include "rmhb/pipeline/branch.h"
 #include "rmhb/pipeline/settings.h"
 #include "rmhb/pipeline/solve.h"
 
@@ -264,6 +265,37 @@ TEST(Start, AForcedTorusWithoutAGuessIsRecordedOnceItHasSettled) {
   EXPECT_EQ(s.solution().frequencies(), (std::vector<double>{1.3, 2.61}));
   ASSERT_TRUE(s.validation && s.validation->report.ok);
   EXPECT_LT(s.validation->verdict.relative_error, 1e-8);
+}
+
+}  // namespace
+}  // namespace rmhb
+
+namespace rmhb {
+namespace {
+
+// A continuation whose first point fails on the recast traces the branch on
+// the original equations (as SolveModel); at the model's default order, as
+// `rmhb solve --continue` without --order. Every point is checked against
+// CVODE from its own state (N = 25: truncation ~1e-4 on this kink-like term).
+TEST(Start, AContinuationWhoseRecastFailsAtTheStartRunsOnTheOriginalEquations) {
+  SolveSettings settings;
+  const PreparedSolve p = PrepareSolve(LoadModel("tests/pipeline/models/steep-friction.yaml"), settings);
+  ContinueOptions o;
+  o.parameter = "W";
+  o.from = 0.6;
+  o.to = 0.7;
+  o.harmonic_balance = p.options;
+  const BranchSummary b = ContinueModel(p.model, p.guess, o);
+  ASSERT_EQ(b.status, BranchStatus::kCompleted) << b.FullReport();
+  EXPECT_NE(b.start_route.find("on the original equations"), std::string::npos) << b.start_route;
+  ASSERT_GE(b.continuation.points.size(), 3u);
+  const Model original = p.model.original_equations();
+  for (const ContinuationPoint& point : b.continuation.points) {
+    const Model here = WithParameters(original, {{"W", point.parameter}});
+    const integrators::ValidationReport v = ValidateOriginal(here, point.solution, 2 * M_PI / point.parameter);
+    ASSERT_TRUE(v.ok) << v.message;
+    EXPECT_LT(v.max_error, 3e-4) << "W = " << point.parameter;
+  }
 }
 
 }  // namespace
