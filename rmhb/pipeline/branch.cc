@@ -790,8 +790,7 @@ BranchSummary ContinueModel(const Model& model, const HarmonicSolution& guess, c
   const StartedSolve started = SolveFromAnyStart(start, guess, o.harmonic_balance);
   if (!started.summary.usable() && model.original_equations) {
     // As SolveModel: the recast's auxiliaries failed, the equations as written may not.
-    Model original = model.original_equations();
-    if (!model.frequency_settings.empty()) SetFrequencies(model.frequency_settings, &original);
+    const Model original = OriginalEquationsOf(model);
     BranchSummary b = ContinueModel(original, GuessAtOrder(original, o.harmonic_balance.order), o);
     b.start_route += " on the original equations (the recast reached no physical solution at the start)";
     return b;

@@ -439,6 +439,17 @@ const char* OriginalIntegrator(const Model& source) {
                                                  : integrators::IntegratorOptions::Method::kAdams);
 }
 
+Model OriginalEquationsOf(const Model& model) {
+  if (!model.original_equations)
+    throw std::invalid_argument("the model '" + model.name + "' has no original-equations twin");
+  Model original = model.original_equations();
+  if (!model.frequency_settings.empty()) SetFrequencies(model.frequency_settings, &original);
+  if (original.conditions_note.empty()) original.conditions_note = model.conditions_note;
+  if (original.frequency_note.empty()) original.frequency_note = model.frequency_note;
+  original.equations_note = "original: the recast reached no physical solution";
+  return original;
+}
+
 Eigen::VectorXd RecordStart(const Model& model, double* perturbation) {
   *perturbation = 0;
   Eigen::VectorXd y0 = model.initial_state;

@@ -180,6 +180,11 @@ void DetectInvariances(Model* model);
 // the unknowns (an eighth of the factorisation) per symmetry.
 int ImposeGuessSymmetries(const HarmonicSolution& guess, Model* model);
 
+// The model's twin on its original equations (Model::original_equations)
+// with what the caller set on top of loading (frequency settings) and the
+// model's notes; throws std::invalid_argument when it has none.
+Model OriginalEquationsOf(const Model& model);
+
 // Where a record that looks for the model's own motion (identify, analyze)
 // starts: its initial_state, left by kRestPerturbation in every state
 // component when that is an equilibrium of the original equations (f(t, y0)

@@ -243,13 +243,8 @@ std::string StartText(const StartedSolve& started) {
 // The model on its original equations, solved from every start at the same
 // order and target; nullopt when that reaches no physical solution either.
 std::optional<SolveSummary> SolveOnOriginalEquations(const Model& given, const SolveOptions& options) {
-  Model original = given.original_equations();
-  if (!given.frequency_settings.empty()) SetFrequencies(given.frequency_settings, &original);
-  if (original.conditions_note.empty()) original.conditions_note = given.conditions_note;
-  if (original.frequency_note.empty()) original.frequency_note = given.frequency_note;
-  original.equations_note = "original: the recast reached no physical solution";
-  SolveOptions o = options;
-  SolveSummary s = SolveModel(original, GuessAtOrder(original, o.harmonic_balance.order), o);
+  const Model original = OriginalEquationsOf(given);
+  SolveSummary s = SolveModel(original, GuessAtOrder(original, options.harmonic_balance.order), options);
   if (!s.harmonic_balance.usable()) return std::nullopt;
   return s;
 }

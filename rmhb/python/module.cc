@@ -202,6 +202,13 @@ class Model {
     // As `rmhb solve --start` (SolveModel's start): the guess, then a simulated or identified start.
     Solution out{model, start == "guess" ? SolveHarmonicBalance(model->problem, prepared.guess, prepared.options)
                                          : SolveFromAnyStart(*model, prepared.guess, prepared.options).summary};
+    if (start == "guess" || out.summary.usable() || !model_->original_equations) return out;
+    // As SolveModel: the recast reached no physical solution, the equations as written may.
+    PreparedSolve original = PrepareSolve(OriginalEquationsOf(*model_), settings);
+    ImposeGuessSymmetries(original.guess, &original.model);
+    auto on_original = std::make_shared<const rmhb::Model>(std::move(original.model));
+    HarmonicBalanceSummary s = SolveFromAnyStart(*on_original, original.guess, original.options).summary;
+    if (s.usable()) return Solution{on_original, std::move(s)};
     return out;
   }
 
