@@ -17,7 +17,11 @@ constexpr double kFarFromTarget = 1e-3;
 bool Unknown(const HarmonicBalanceProblem& p) { return p.num_unknown_frequencies() > 0; }
 
 std::string Why(const HarmonicBalanceSummary& s) {
-  if (!s.converged()) return std::string(ToString(s.solver.status)) + ", max|F| " + std::to_string(s.solver.final_residual);
+  if (!s.converged()) {
+    char residual[48];  // %g: a model in SI units has residuals of 1e-7 (std::to_string printed 0.000000)
+    std::snprintf(residual, sizeof residual, ", max|F| %.3g", s.solver.final_residual);
+    return std::string(ToString(s.solver.status)) + residual;
+  }
   if (!s.physical) return "non-physical: " + s.non_physical;
   char far[96];
   std::snprintf(far, sizeof far, "order %d, estimated error %.2g (> %.0e: not yet the orbit)", s.order,

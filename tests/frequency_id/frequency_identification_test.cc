@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -254,6 +257,38 @@ TEST(FrequencyIdentification, ConstantSignalHasNoComponents) {
   EXPECT_FALSE(IdentifyFrequencies(IdentificationOptions(), signal, &summary));
   EXPECT_EQ(summary.status, IdentificationStatus::kNoComponents);
   EXPECT_NEAR(summary.mean(0), 2.5, 1e-12);
+}
+
+// A settled MEMS record (SI units) whose integration noise made detection
+// add a line, polish pull it off its peak and prune it, and the peak come
+// back: the loop never ended (a user's `solve` hung). The rounds are now
+// bounded: the identification ends, usable, on the known base.
+TEST(FrequencyIdentification, ALineThatKeepsComingBackEndsTheDetection) {
+  std::ifstream in("tests/frequency_id/data/mems-cycling-record.txt");
+  ASSERT_TRUE(in) << "run from the source root";
+  std::string line;
+  while (std::getline(in, line) && line[0] == '#') {
+  }
+  Signal signal;
+  std::istringstream(line) >> signal.t0 >> signal.dt;
+  std::vector<double> x;
+  for (double v; in >> v;) x.push_back(v);
+  ASSERT_EQ(x.size(), 4133u);
+  signal.samples = Eigen::Map<const Eigen::MatrixXd>(x.data(), static_cast<long>(x.size()), 1);
+  IdentificationOptions options;  // as the analyze pipeline (rmhb/pipeline/analyze.cc)
+  options.relative_threshold = 1e-8;
+  options.max_components = 32;
+  options.bases.max_bases = 1;
+  options.bases.known_frequencies = {1.05e5};
+  IdentificationSummary s;
+  IdentifyFrequencies(options, signal, &s);
+  EXPECT_NE(s.message.find("kept coming back"), std::string::npos) << s.message;
+  EXPECT_LE(s.num_polishes, 4 * 32);
+  ASSERT_TRUE(s.IsUsable()) << s.message;
+  ASSERT_EQ(s.bases.size(), 1u);
+  EXPECT_EQ(s.bases[0].frequency, 1.05e5);
+  ASSERT_FALSE(s.components.empty());
+  EXPECT_NEAR(s.components[0].frequency, 1.05e5, 1e-9 * 1.05e5);  // the drive, to the record's precision
 }
 
 }  // namespace
