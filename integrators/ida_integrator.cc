@@ -167,8 +167,6 @@ class IdaRun {
     constexpr long kChunk = 100'000;
     int flag = IDA_TOO_MUCH_WORK;
     for (long left = remaining; left > 0 && flag == IDA_TOO_MUCH_WORK; left -= kChunk) {
-      double t_before = *t_reached;
-      IDAGetCurrentTime(mem_.get(), &t_before);
       IDASetMaxNumSteps(mem_.get(), std::min(left, kChunk));
       flag = IDASolve(mem_.get(), tout, t_reached, y_.get(), yp_.get(), IDA_NORMAL);
       if (flag != IDA_TOO_MUCH_WORK) break;
@@ -177,12 +175,6 @@ class IdaRun {
       IDAGetLastStep(mem_.get(), &h_last);
       if (std::string stuck = detail::RoundOffStopMessage(FlagName(IDA_TOO_MUCH_WORK), h_last, t_current); !stuck.empty()) {
         failure_ = std::move(stuck);
-        return IDA_TOO_MUCH_WORK;
-      }
-      if (std::string crawl = detail::CrawlStopMessage(FlagName(IDA_TOO_MUCH_WORK), t_before, t_current, tout,
-                                                       std::min(left, kChunk), left - kChunk);
-          !crawl.empty()) {
-        failure_ = std::move(crawl);
         return IDA_TOO_MUCH_WORK;
       }
     }

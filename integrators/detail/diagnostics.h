@@ -45,7 +45,8 @@ std::string RoundOffStopMessage(const std::string& flag_name, double h, double t
 // that pace by a factor of 1000: a solution sliding along a discontinuity
 // of the right-hand side (sign(v) friction at stick) steps at ~1e-14 without
 // ever reaching the round-off of t, and only the budget (10^7 steps, ~10 s)
-// stopped it. Otherwise the flag, where, and why.
+// stopped it. Otherwise the flag, where, and why. CVODE only: IDA's corrector
+// fails outright at such a point (ida_integrator_test).
 std::string CrawlStopMessage(const std::string& flag_name, double t_before, double t, double tout, long steps,
                              long steps_left);
 

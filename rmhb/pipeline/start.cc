@@ -103,7 +103,8 @@ double TorusSettleTime(const Model& model, const StartOptions& start, int* perio
   double slowest = HUGE_VAL;
   for (double w : model.problem.frequencies) slowest = std::min(slowest, std::abs(w));
   const double T = 2 * M_PI / slowest;
-  integrators::IntegratorOptions io;
+  integrators::IntegratorOptions io;  // as SettledState
+  io.method = model.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
   io.relative_tolerance = 1e-11;
   io.absolute_tolerance = 1e-13;
   const auto begin = std::chrono::steady_clock::now();

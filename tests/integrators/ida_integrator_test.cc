@@ -57,6 +57,29 @@ TEST(IntegrateDae, SemiExplicitIndexOneMatchesExactSolution) {
 }
 
 // A MEMS plate's pull-in as a DAE, the force an algebraic unknown:
+// The friction block of cvode_integrator_test's crawl test as a DAE
+// (x' = v, v' = f, 0 = f + 0.3 sign(v) + x - 0.6 cos 0.8t): IDA's corrector
+// fails outright where the block sticks (CVODE crawls there), so the
+// integration stops at once, saying where.
+TEST(IntegrateDae, AFrictionBlockStoppedAtStickEndsTheIntegrationThere) {
+  DaeSystem friction;
+  friction.dimension = 3;
+  friction.residual = [](double t, const double* y, const double* yp, double* r) {
+    r[0] = yp[0] - y[1];
+    r[1] = yp[1] - y[2];
+    r[2] = y[2] + 0.3 * ((y[1] > 0) - (y[1] < 0)) + y[0] - 0.6 * std::cos(0.8 * t);
+  };
+  friction.differential = {true, true, false};
+  IntegratorOptions options;
+  options.relative_tolerance = 1e-11;
+  options.absolute_tolerance = 1e-13;
+  const IntegrationResult result = IntegrateDae(friction, Vec({0, 0, 0.6}), Vec({0, 0.6, 0}), 0.0, {10.0}, options);
+  ASSERT_FALSE(result.ok());
+  EXPECT_LE(result.steps, 100'000) << result.message;
+  const double stopped = std::stod(result.message.substr(result.message.find("stopped at t = ") + 15));
+  EXPECT_NEAR(stopped, 1.8197640, 1e-6) << result.message;  // v's first zero (cvode_integrator_test)
+}
+
 // x' = v, v' = f, 0 = f (1 - x)^2 - a. x reaches 1 at the exact time
 // pi / (2 sqrt(2a)) with v and f unbounded: IDA's steps fall to the round-off
 // of t there, and the integration stops with where and why instead of
