@@ -455,9 +455,8 @@ Eigen::VectorXd RecordStart(const Model& model, double* perturbation) {
   Eigen::VectorXd y0 = model.initial_state;
   if (!model.original || y0.size() == 0) return y0;
   const integrators::OdeSystem ode = model.original(model.problem.frequencies);
-  double slowest = HUGE_VAL;
-  for (double w : model.problem.frequencies) slowest = std::min(slowest, std::abs(w));
-  const double period = slowest > 0 && std::isfinite(slowest) ? 2 * M_PI / slowest : 1.0;
+  const double period =
+      2 * M_PI / *std::min_element(model.problem.frequencies.begin(), model.problem.frequencies.end());
   const double scale = std::max(1.0, y0.cwiseAbs().maxCoeff());
   Eigen::VectorXd ydot(y0.size());
   // Irrational fractions of the period: no forcing term vanishes at all of them.

@@ -228,16 +228,8 @@ namespace {
 
 // What a start reached, for a note: its route and why it was not kept.
 std::string StartText(const StartedSolve& started) {
-  const HarmonicBalanceSummary& hb = started.summary;
-  std::string text = "from the " + started.route + ", ";
-  if (!hb.converged()) {
-    char residual[48];
-    std::snprintf(residual, sizeof residual, "not converged, max|F| %.3g", hb.solver.final_residual);
-    text += residual;
-  } else {
-    text += "non-physical: " + hb.non_physical;
-  }
-  return text + (started.note.empty() ? "" : " (" + started.note + ")");
+  return "from the " + started.route + ", " + WhyNotKept(started.summary) +
+         (started.note.empty() ? "" : " (" + started.note + ")");
 }
 
 // The model on its original equations, solved from every start at the same

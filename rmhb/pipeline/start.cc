@@ -1,5 +1,6 @@
 #include "rmhb/pipeline/start.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,19 +16,6 @@ namespace {
 constexpr double kFarFromTarget = 1e-3;
 
 bool Unknown(const HarmonicBalanceProblem& p) { return p.num_unknown_frequencies() > 0; }
-
-std::string Why(const HarmonicBalanceSummary& s) {
-  if (!s.converged()) {
-    char residual[48];  // %g: a model in SI units has residuals of 1e-7 (std::to_string printed 0.000000)
-    std::snprintf(residual, sizeof residual, ", max|F| %.3g", s.solver.final_residual);
-    return std::string(ToString(s.solver.status)) + residual;
-  }
-  if (!s.physical) return "non-physical: " + s.non_physical;
-  char far[96];
-  std::snprintf(far, sizeof far, "order %d, estimated error %.2g (> %.0e: not yet the orbit)", s.order,
-                s.truncation_estimate, kFarFromTarget);
-  return far;
-}
 
 // Analyze with a record that starts on the settled state (identification
 // of known frequencies: the harmonics are fitted on the record).
@@ -47,6 +35,19 @@ std::optional<HarmonicBalanceSummary> SolveFromRecord(const Model& model, const 
 
 }  // namespace
 
+std::string WhyNotKept(const HarmonicBalanceSummary& s) {
+  if (!s.converged()) {
+    char residual[48];  // %g: a model in SI units has residuals of 1e-7 (std::to_string printed 0.000000)
+    std::snprintf(residual, sizeof residual, ", max|F| %.3g", s.solver.final_residual);
+    return std::string(ToString(s.solver.status)) + residual;
+  }
+  if (!s.physical) return "non-physical: " + s.non_physical;
+  char far[96];
+  std::snprintf(far, sizeof far, "order %d, estimated error %.2g (> %.0e: not yet the orbit)", s.order,
+                s.truncation_estimate, kFarFromTarget);
+  return far;
+}
+
 std::string StartOptions::IsValid() const {
   if (!(settle_tolerance > 0)) return "settle_tolerance must be > 0";
   if (max_periods < 2) return "max_periods must be >= 2";
@@ -54,12 +55,22 @@ std::string StartOptions::IsValid() const {
   return "";
 }
 
-Eigen::VectorXd SettledState(const Model& model, const StartOptions& start, int* periods) {
-  const double T = 2 * M_PI / model.problem.frequencies[0];
+namespace {
+
+// How a start is integrated until it settles (SettledState, TorusSettleTime).
+integrators::IntegratorOptions SettleIntegration(const Model& model) {
   integrators::IntegratorOptions io;
   io.method = model.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
   io.relative_tolerance = 1e-11;
   io.absolute_tolerance = 1e-13;
+  return io;
+}
+
+}  // namespace
+
+Eigen::VectorXd SettledState(const Model& model, const StartOptions& start, int* periods) {
+  const double T = 2 * M_PI / model.problem.frequencies[0];
+  const integrators::IntegratorOptions io = SettleIntegration(model);
   const auto begin = std::chrono::steady_clock::now();
   Eigen::VectorXd y = model.initial_state;
   constexpr int kChunk = 25;  // periods per integration call
@@ -100,13 +111,8 @@ double TorusSettleTime(const Model& model, const StartOptions& start, int* perio
   const Eigen::VectorXd& y0 = model.initial_state;
   Eigen::VectorXd y(2 * n);
   y << y0, (y0.array() + 0.1 * std::max(1.0, y0.cwiseAbs().maxCoeff())).matrix();
-  double slowest = HUGE_VAL;
-  for (double w : model.problem.frequencies) slowest = std::min(slowest, std::abs(w));
-  const double T = 2 * M_PI / slowest;
-  integrators::IntegratorOptions io;  // as SettledState
-  io.method = model.stiff ? integrators::IntegratorOptions::Method::kBdf : integrators::IntegratorOptions::Method::kAdams;
-  io.relative_tolerance = 1e-11;
-  io.absolute_tolerance = 1e-13;
+  const double T = 2 * M_PI / *std::min_element(model.problem.frequencies.begin(), model.problem.frequencies.end());
+  const integrators::IntegratorOptions io = SettleIntegration(model);
   const auto begin = std::chrono::steady_clock::now();
   constexpr int kChunk = 25;
   for (int done = 0; done < start.max_periods; done += kChunk) {
@@ -150,14 +156,14 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
   const bool far = first.short_of_target && first.truncation_estimate > kFarFromTarget;
   const bool keep = !far && (first.usable() || (first.short_of_target && first.physical));
   if (keep || (!model.original && !model.original_dae)) return out;
-  out.note = "from the guess: " + Why(out.summary);
+  out.note = "from the guess: " + WhyNotKept(out.summary);
   // The orbit on a sub-multiple of its frequency: restated on its own.
   if (out.summary.repeats > 1 && out.summary.solution) {
     HarmonicBalanceSummary lifted =
         SolveHarmonicBalance(model.problem, out.summary.solution->OnMultipleFrequency(out.summary.repeats), options);
     if (lifted.usable())
       return {std::move(lifted), "guess, restated on " + std::to_string(out.summary.repeats) + " w", out.note, 0};
-    out.note += "; restated on " + std::to_string(out.summary.repeats) + " w: " + Why(lifted);
+    out.note += "; restated on " + std::to_string(out.summary.repeats) + " w: " + WhyNotKept(lifted);
   }
   std::string why;
   // A forced torus does not settle stroboscopically: like an unknown
@@ -191,7 +197,7 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
   if (!forced || out.summary.converged() || !options.raise_order_on_failure) return out;
   HarmonicBalanceSummary raised = SolveHarmonicBalance(model.problem, guess, options);
   if (raised.usable()) return {std::move(raised), "guess at a raised order", out.note, 0};
-  out.note += "; from the guess at raised orders: " + Why(raised);
+  out.note += "; from the guess at raised orders: " + WhyNotKept(raised);
   out.summary = std::move(raised);
   return out;
 }

@@ -41,6 +41,10 @@ struct StartedSolve {
   int settle_periods = 0;
 };
 
+// Why a start's summary is not kept, for a note: "not_converged, max|F| 0.4",
+// "non-physical: ...", or an order and estimated error far from the target.
+std::string WhyNotKept(const HarmonicBalanceSummary& s);
+
 StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess,
                                const HarmonicBalanceOptions& options, const StartOptions& start = {});
 

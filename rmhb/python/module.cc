@@ -196,20 +196,19 @@ class Model {
     if (settings.method != "rhb" && settings.method != "hdhb" && settings.method != "aft")
       throw std::invalid_argument("method must be rhb, hdhb or aft, got '" + method + "'");
     py::gil_scoped_release release;
-    PreparedSolve prepared = PrepareSolve(*model_, settings);
-    ImposeGuessSymmetries(prepared.guess, &prepared.model);  // as SolveModel: the same unknowns, the same answer
-    auto model = std::make_shared<const rmhb::Model>(std::move(prepared.model));
     // As `rmhb solve --start` (SolveModel's start): the guess, then a simulated or identified start.
-    Solution out{model, start == "guess" ? SolveHarmonicBalance(model->problem, prepared.guess, prepared.options)
-                                         : SolveFromAnyStart(*model, prepared.guess, prepared.options).summary};
+    auto solve = [&](const rmhb::Model& source) {
+      PreparedSolve prepared = PrepareSolve(source, settings);
+      ImposeGuessSymmetries(prepared.guess, &prepared.model);  // as SolveModel: the same unknowns, the same answer
+      auto model = std::make_shared<const rmhb::Model>(std::move(prepared.model));
+      return Solution{model, start == "guess" ? SolveHarmonicBalance(model->problem, prepared.guess, prepared.options)
+                                              : SolveFromAnyStart(*model, prepared.guess, prepared.options).summary};
+    };
+    Solution out = solve(*model_);
     if (start == "guess" || out.summary.usable() || !model_->original_equations) return out;
     // As SolveModel: the recast reached no physical solution, the equations as written may.
-    PreparedSolve original = PrepareSolve(OriginalEquationsOf(*model_), settings);
-    ImposeGuessSymmetries(original.guess, &original.model);
-    auto on_original = std::make_shared<const rmhb::Model>(std::move(original.model));
-    HarmonicBalanceSummary s = SolveFromAnyStart(*on_original, original.guess, original.options).summary;
-    if (s.usable()) return Solution{on_original, std::move(s)};
-    return out;
+    Solution original = solve(OriginalEquationsOf(*model_));
+    return original.summary.usable() ? original : out;
   }
 
   AnalyzeSummary Analyze(std::optional<int> order, double t_end, double transient, int validate_periods) const {
