@@ -107,7 +107,7 @@ struct IdentifyArgs {
   std::vector<std::string> set;
   double t_end = 0;      // 0: chosen from the guessed frequencies
   double transient = -1; // -1: a tenth of the record
-  int samples_per_period = 32;
+  int samples_per_period = 0;
   int window = 0;        // Hann^q order, 0 = automatic
   std::string plot;      // spectrum with labelled lines, FILE.png|svg
   bool json = false;

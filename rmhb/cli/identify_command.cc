@@ -47,8 +47,9 @@ void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
   app->add_option("--transient", a->transient, "Initial time to discard (default: a tenth of --t-end; with --signal: none)")
       ->check(finite_at_least(0, false));
   app->add_option("--samples-per-period", a->samples_per_period,
-                  "Samples per period of the fastest base (default 32)")
-      ->check(CLI::Range(4, 4096));
+                  "Samples per period of the fastest base (default 0: 32, up to 4 times denser while lines "
+                  "above Nyquist would fold back into the record)")
+      ->check(CLI::Range(0, 4096));
   app->add_option("--window", a->window, "Hann^q window order q (0: chosen from the line spacing)")
       ->check(CLI::Range(0, 8));
   app->add_option("--plot", a->plot, "Draw the spectrum with the labelled lines into FILE.png or FILE.svg");

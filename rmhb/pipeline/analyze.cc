@@ -83,10 +83,7 @@ constexpr int kMaxPeriodOrder = 1024;
 frequency_id::IdentificationOptions IdentificationOptionsFor(const HarmonicBalanceProblem& problem, int window) {
   frequency_id::IdentificationOptions id;
   id.window_order = window;
-  // CVODE's phase drift (~1e-11 relative per period at rtol 1e-13) makes
-  // sidebands near 1e-9 of the strongest line over a long record: not lines
-  // of the motion, and a guess needs nothing that weak (Newton adds it).
-  id.relative_threshold = 1e-8;
+  id.relative_threshold = kRecordLineThreshold;
   // The cost grows with the lines modelled; 32 hold every line above 1e-8
   // of the bundled examples but the asymmetric pendulum's (~60), where they
   // halve the time and keep the bases within 1e-12 (benchmark, section 4).
@@ -134,40 +131,31 @@ void StartAtPeriodOrder(const frequency_id::Signal& period, HarmonicBalanceOptio
 // the summary's status and message set.
 std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const AnalyzeOptions& o, AnalyzeSummary* s) {
   const int bases = static_cast<int>(model.problem.frequencies.size());
-  // A forced periodic motion is recorded once it has settled: the transient
-  // is measured (the stroboscopic map), not guessed.
-  const bool settle = o.transient < 0 && bases == 1 && model.problem.num_unknown_frequencies() == 0;
-  AnalyzeOptions record_options = o;
-  if (settle) record_options.transient = 0;
   RecordStage stage;
-  // A forced torus: recorded once two motions have met (TorusSettleTime), if
-  // that is later than the default transient; a damping of 0.1 leaves e^-5
-  // of the start after the default's 107 time units, which the
-  // identification's polish takes for a line of the motion.
-  if (o.transient < 0 && bases > 1 && model.problem.num_unknown_frequencies() == 0 && model.original) {
-    try {
-      const double settled = TorusSettleTime(model, StartOptions{}, &stage.settle_periods);
-      if (settled > Record(model, o, bases).transient) record_options.transient = settled;
-      else stage.settle_periods = 0;
-    } catch (const std::runtime_error&) {
-      stage.settle_periods = 0;  // the default transient, as before
-    }
-  }
-  stage.record = Record(model, record_options, bases);
+  stage.record = Record(model, o, bases);
   stage.integrator = OriginalIntegrator(model, stage.record.integrator.method);
   auto t0 = Clock::now();
-  // A forced motion settles from rest by itself.
-  Eigen::VectorXd y0 = settle ? model.initial_state : RecordStart(model, &stage.rest_perturbation);
-  if (settle) {
+  Eigen::VectorXd y0;
+  if (o.transient < 0 && model.problem.num_unknown_frequencies() == 0) {
+    // The transient of a forced motion is measured, not guessed.
     try {
-      y0 = SettledState(model, StartOptions{}, &stage.settle_periods);
+      y0 = ForcedRecordStart(model, &stage.record, &stage.settle_periods);
     } catch (const std::runtime_error& e) {
       s->status = AnalyzeStatus::kIdentificationFailed;
       s->message = e.what();
       return std::nullopt;
     }
+  } else {
+    y0 = RecordStart(model, &stage.rest_perturbation);
   }
-  const frequency_id::Signal signal = RecordOriginal(model, model.problem.frequencies, y0, stage.record);
+  // A torus' record keeps its rate: its identification keeps the 32
+  // strongest lines, far above what folds back from beyond 6 times the
+  // fastest base on the bundled tori, and a second integration doubled the
+  // stage for nothing (asymmetric pendulum: 1.3 s -> 2.3 s, the same bases).
+  const frequency_id::Signal signal =
+      o.samples_per_period > 0 || bases > 1
+          ? RecordOriginal(model, model.problem.frequencies, y0, stage.record)
+          : RecordUnaliased(model, model.problem.frequencies, y0, stage.record, &stage.sampling);
   stage.seconds = Since(t0);
   stage.samples = signal.num_samples();
   s->trajectory = stage;
@@ -419,10 +407,17 @@ struct Stages {
 
 void ReportIdentification(const AnalyzeSummary& s, Stages* out) {
   const seeding::RecordOptions& record = s.trajectory->record;
+  const RecordSampling& sampling = s.trajectory->sampling;
+  const double dt = record.dt / sampling.oversampling * sampling.thinning;  // the record's own
   out->lines.push_back(
       StringPrintf("%-10s %9.1f ms  %s rtol %.0e: %d samples, t in [%g, %g], dt %.4g", "trajectory",
              s.trajectory->seconds * 1e3, s.trajectory->integrator.c_str(), record.integrator.relative_tolerance,
-             s.trajectory->samples, record.transient, record.t_end, record.dt) +
+             s.trajectory->samples, record.transient, record.t_end, dt) +
+      (sampling.oversampling > 1 && sampling.thinning < sampling.oversampling
+           ? StringPrintf(" (%dx the rate asked: a line would fold back)", sampling.oversampling / sampling.thinning)
+           : std::string()) +
+      (sampling.resolved() ? std::string()
+                           : StringPrintf(" (NOT resolved: %.2g of the strongest line near Nyquist)", sampling.top_band)) +
       (s.trajectory->settle_periods > 0
            ? " after the motion settled (" + std::to_string(s.trajectory->settle_periods) + " periods)"
            : std::string()) +
@@ -431,7 +426,9 @@ void ReportIdentification(const AnalyzeSummary& s, Stages* out) {
                           s.trajectory->rest_perturbation)
            : std::string()));
   out->stages["trajectory"] = {{"seconds", s.trajectory->seconds}, {"samples", s.trajectory->samples},
-                               {"transient", record.transient}, {"t_end", record.t_end}, {"dt", record.dt},
+                               {"transient", record.transient}, {"t_end", record.t_end}, {"dt", dt},
+                               {"sampling", {{"oversampling", sampling.oversampling}, {"thinning", sampling.thinning},
+                                             {"top_band", JsonNumber(sampling.top_band)}, {"resolved", sampling.resolved()}}},
                                {"relative_tolerance", record.integrator.relative_tolerance},
                                {"settle_periods", s.trajectory->settle_periods},
                                {"rest_perturbation", s.trajectory->rest_perturbation}};

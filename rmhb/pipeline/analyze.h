@@ -75,6 +75,10 @@ struct RecordStage {
   // leaves it, and a self-excited orbit is reached from next to it. 0: the
   // start as given.
   double rest_perturbation = 0;
+  // How a periodic motion's record was sampled (RecordUnaliased): the asked
+  // rate, or denser when a line would fold back; not measured (top_band 0)
+  // for a torus or a given --samples-per-period.
+  RecordSampling sampling;
   int samples = 0;
   double seconds = 0;
 };

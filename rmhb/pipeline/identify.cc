@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "rmhb/pipeline/report.h"
+#include "rmhb/pipeline/start.h"
 #include "rmhb/seeding/identified_guess.h"
 
 namespace rmhb {
@@ -28,10 +29,12 @@ void CutRecord(const IdentifyOptions& o, frequency_id::Signal* signal) {
   signal->t0 += first * signal->dt;
 }
 
+// `line_threshold`: IdentificationOptions::relative_threshold.
 IdentifySummary IdentifyRecord(frequency_id::Signal signal, const std::vector<double>& known,
-                               const IdentifyOptions& o) {
+                               const IdentifyOptions& o, double line_threshold) {
   IdentifySummary s;
   frequency_id::IdentificationOptions options;
+  options.relative_threshold = line_threshold;
   options.window_order = o.window;
   options.bases.known_frequencies = known;
   frequency_id::IdentifyFrequencies(options, signal, &s.identification);
@@ -44,7 +47,7 @@ IdentifySummary IdentifyRecord(frequency_id::Signal signal, const std::vector<do
 std::string IdentifyOptions::IsValid() const {
   if (!std::isfinite(t_end) || t_end < 0) return "--t-end must be a finite number >= 0";
   if (!std::isfinite(transient)) return "--transient must be a finite number";
-  if (samples_per_period < 4) return "--samples-per-period must be >= 4";
+  if (samples_per_period != 0 && samples_per_period < 4) return "--samples-per-period must be 0 (automatic) or >= 4";
   if (window < 0) return "--window must be >= 0";
   return "";
 }
@@ -59,7 +62,7 @@ IdentifySummary Identify(const Model& model, const IdentifyOptions& o) {
     if (model.problem.unknown_frequency.empty() || !model.problem.unknown_frequency[b]) known.push_back(w[b]);
   // 4 beats keep close bases 4 bins apart, enough for Hann^1; 20 took 14 s on
   // the asymmetric pendulum for the same bases (frequency_id_benchmark, section 4).
-  seeding::RecordOptions record = seeding::DefaultRecord(w, o.samples_per_period, 300, 4);
+  seeding::RecordOptions record = seeding::DefaultRecord(w, o.samples_per_period > 0 ? o.samples_per_period : 32, 300, 4);
   if (o.t_end > 0) record.t_end = o.t_end;
   record.transient = o.transient >= 0 ? o.transient : 0.1 * record.t_end;
   if (!std::isfinite(record.t_end) || record.t_end > 1e7) throw std::invalid_argument("--t-end is too large");
@@ -69,10 +72,25 @@ IdentifySummary Identify(const Model& model, const IdentifyOptions& o) {
   // A conservative motion's torus is the one its initial state fixes.
   const auto start = std::chrono::steady_clock::now();
   double perturbation = 0;
-  frequency_id::Signal signal = RecordOriginal(model, w, RecordStart(model, &perturbation), record);
+  int settle_periods = 0;
+  Eigen::VectorXd y0 = model.initial_state;
+  if (o.transient < 0 && known.size() == w.size()) {
+    try {
+      y0 = ForcedRecordStart(model, &record, &settle_periods);
+    } catch (const std::runtime_error&) {
+      settle_periods = 0;  // not settled within the budget: the default transient
+    }
+  } else {
+    y0 = RecordStart(model, &perturbation);
+  }
+  RecordSampling sampling;
+  frequency_id::Signal signal = o.samples_per_period > 0 ? RecordOriginal(model, w, y0, record)
+                                                         : RecordUnaliased(model, w, y0, record, &sampling);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  IdentifySummary s = IdentifyRecord(std::move(signal), known, o);
+  IdentifySummary s = IdentifyRecord(std::move(signal), known, o, kRecordLineThreshold);
   s.rest_perturbation = perturbation;
+  s.settle_periods = settle_periods;
+  s.sampling = sampling;
   s.integration_seconds = seconds;
   s.integrator = OriginalIntegrator(model);
   return s;
@@ -81,7 +99,7 @@ IdentifySummary Identify(const Model& model, const IdentifyOptions& o) {
 IdentifySummary Identify(frequency_id::Signal signal, const IdentifyOptions& o) {
   if (const std::string error = o.IsValid(); !error.empty()) throw std::invalid_argument(error);
   CutRecord(o, &signal);
-  return IdentifyRecord(std::move(signal), {}, o);
+  return IdentifyRecord(std::move(signal), {}, o, frequency_id::IdentificationOptions{}.relative_threshold);
 }
 
 std::string IdentifySummary::BriefReport() const { return identification.BriefReport(); }
@@ -93,6 +111,19 @@ std::string IdentifySummary::FullReport() const {
     std::snprintf(line, sizeof line, "trajectory: %s, %d samples over %.6g time units, %.1f ms\n", integrator.c_str(),
                   identification.num_samples, identification.duration, integration_seconds * 1e3);
     out += line;
+    if (sampling.oversampling > 1) {
+      std::snprintf(line, sizeof line, "  sampled %d times as densely as 32 per period, every %d%s sample kept: %s %.2g of the "
+                    "strongest line near Nyquist (level %.0e)\n", sampling.oversampling, sampling.thinning,
+                    sampling.thinning == 1 ? "st" : sampling.thinning == 2 ? "nd" : "th",
+                    sampling.resolved() ? "resolved," : "NOT RESOLVED, lines above Nyquist may fold back:",
+                    sampling.top_band, kRecordLineThreshold);
+      out += line;
+    }
+    if (settle_periods > 0) {
+      std::snprintf(line, sizeof line, "  recorded once the forced motion settled (%d periods of the slowest base)\n",
+                    settle_periods);
+      out += line;
+    }
     if (rest_perturbation != 0) {
       std::snprintf(line, sizeof line, "  from the initial state + %g in every state (it is an equilibrium)\n",
                     rest_perturbation);
@@ -123,6 +154,9 @@ json IdentifySummary::ToJson() const {
           {"samples", id.num_samples},
           {"duration", id.duration},
           {"rest_perturbation", rest_perturbation},
+          {"settle_periods", settle_periods},
+          {"sampling", {{"oversampling", sampling.oversampling}, {"thinning", sampling.thinning},
+                        {"top_band", JsonNumber(sampling.top_band)}, {"resolved", sampling.resolved()}}},
           {"seconds", {{"integration", integration_seconds}, {"identification", id.total_seconds}}}};
 }
 

@@ -33,7 +33,10 @@ struct IdentifyOptions {
   // Integrated (or read) but not used. -1: a tenth of t_end for a model,
   // none for a signal.
   double transient = -1;
-  int samples_per_period = 32;  // of the fastest base (a model's record)
+  // Of the fastest base (a model's record). 0: 32, made denser (up to
+  // kRecordOversampling times) while lines above Nyquist would fold back
+  // into the record (RecordUnaliased); a given rate is taken as given.
+  int samples_per_period = 0;
   int window = 0;               // Hann^q order; 0: from the line spacing
   std::string IsValid() const;  // empty when valid
 };
@@ -44,6 +47,12 @@ struct IdentifySummary {
   double integration_seconds = 0;  // a model's record only
   std::string integrator;          // a model's record only
   double rest_perturbation = 0;    // added to an equilibrium start (RecordStart)
+  // How a model's record was sampled: the asked rate, or denser
+  // (samples_per_period 0); top_band 0 when not measured.
+  RecordSampling sampling;
+  // A forced model's record starts once its motion settled (no --transient
+  // given): the periods that took, 0 for the default transient.
+  int settle_periods = 0;
 
   bool usable() const { return identification.IsUsable(); }
   std::string BriefReport() const;

@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "frequency_id/spectrum.h"
+#include "frequency_id/window.h"
 #include "integrators/cvode_integrator.h"
 #include "integrators/event_detection.h"
 #include "integrators/ida_integrator.h"
@@ -479,6 +481,51 @@ frequency_id::Signal RecordOriginal(const Model& source, const std::vector<doubl
   RequireOriginal(source);
   return source.original_dae ? seeding::RecordTrajectory(source.original_dae(w), y0, record, source.state_names)
                              : seeding::RecordTrajectory(source.original(w), y0, record, source.state_names);
+}
+
+namespace {
+
+// Per thinning d (1, 2, 4, ... up to `oversampling`): the strongest line of
+// the record's Hann^4 spectrum (channel means removed) at or above
+// kTopBand of the thinned record's Nyquist frequency, over the strongest
+// line overall. A smooth motion's harmonics decay: the band below Nyquist
+// bounds what lies beyond it, and is wide enough to hold a harmonic at 12
+// samples per period of an odd-harmonic motion.
+constexpr double kTopBand = 0.75;
+std::vector<double> TopBandLevels(const frequency_id::Signal& record, int oversampling) {
+  const Eigen::MatrixXd centred = record.samples.rowwise() - record.samples.colwise().mean();
+  frequency_id::SpectrumAnalyzer analyzer({record.t0, record.dt, record.num_samples()}, frequency_id::Window(4));
+  const Eigen::VectorXd& a = analyzer.Compute(centred);
+  const int bins = analyzer.num_bins();
+  const double strongest = a.maxCoeff();
+  std::vector<double> levels;
+  for (int d = 1; d <= oversampling; d *= 2) {
+    const int first = static_cast<int>(kTopBand * (bins - 1) / d);
+    levels.push_back(strongest > 0 ? a.tail(bins - first).maxCoeff() / strongest : 0.0);
+  }
+  return levels;
+}
+
+}  // namespace
+
+bool RecordSampling::resolved() const { return top_band <= kRecordLineThreshold; }
+
+frequency_id::Signal RecordUnaliased(const Model& model, const std::vector<double>& w, const Eigen::VectorXd& y0,
+                                     seeding::RecordOptions record, RecordSampling* sampling) {
+  frequency_id::Signal asked = RecordOriginal(model, w, y0, record);
+  *sampling = {1, 1, TopBandLevels(asked, 1)[0]};
+  if (sampling->resolved()) return asked;
+  record.dt /= kRecordOversampling;
+  frequency_id::Signal dense = RecordOriginal(model, w, y0, record);
+  const std::vector<double> levels = TopBandLevels(dense, kRecordOversampling);
+  *sampling = {kRecordOversampling, 1, levels[0]};
+  for (size_t i = 1; i + 1 < levels.size() && levels[i] <= kRecordLineThreshold; ++i)
+    *sampling = {kRecordOversampling, 1 << i, levels[i]};
+  if (sampling->thinning == 1) return dense;
+  frequency_id::Signal kept = std::move(dense);
+  kept.samples = kept.samples(Eigen::seq(0, Eigen::last, sampling->thinning), Eigen::all).eval();
+  kept.dt *= sampling->thinning;
+  return kept;
 }
 
 integrators::IntegrationResult SimulateOriginal(const Model& model, const std::vector<double>& w,

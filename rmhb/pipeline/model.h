@@ -205,6 +205,33 @@ const char* OriginalIntegrator(const Model& model);  // "IDA BDF", "CVODE BDF", 
 const char* OriginalIntegrator(const Model& model, integrators::IntegratorOptions::Method method);
 frequency_id::Signal RecordOriginal(const Model& model, const std::vector<double>& w, const Eigen::VectorXd& y0,
                                     const seeding::RecordOptions& record);
+// How RecordUnaliased sampled: the trajectory was integrated and sampled
+// `oversampling` times as often as asked, then every `thinning`-th sample
+// kept; `top_band` is the strongest line of the record's spectrum in the
+// band below the kept rate's Nyquist frequency, over its strongest line.
+struct RecordSampling {
+  int oversampling = 1;
+  int thinning = 1;
+  double top_band = 0;
+  bool resolved() const;  // top_band <= kRecordLineThreshold
+};
+// Lines weaker than this fraction of the strongest in a record of the model's
+// integrated motion are not lines of the motion: CVODE's phase drift (~1e-11
+// relative per period at rtol 1e-13) makes sidebands near 1e-9 of the
+// strongest line over a long record (`rmhb identify pendulum` took them for
+// lines of a second base, w2 = -1.7e-10), and a guess needs nothing that
+// weak (Newton adds it).
+constexpr double kRecordLineThreshold = 1e-8;
+// RecordOriginal at the asked rate; when the band below its Nyquist
+// frequency holds a line above kRecordLineThreshold of the strongest, again
+// at kRecordOversampling times that rate, thinned to every 2nd sample if its
+// own band then is clean (never back to the asked rate). A line above
+// Nyquist folds back to a frequency no base explains: Van der Pol at
+// mu = 1.5 sampled 32 times per period had its harmonic 21 folded to 11.486,
+// which identification took for a second base (rmhb/METHOD.md s.20).
+constexpr int kRecordOversampling = 4;
+frequency_id::Signal RecordUnaliased(const Model& model, const std::vector<double>& w, const Eigen::VectorXd& y0,
+                                     seeding::RecordOptions record, RecordSampling* sampling);
 // The original equations integrated from (0, y0) and sampled at `times`:
 // IDA for a DAE (which makes y'(0) and the algebraic part of y0 consistent
 // first), else CVODE with `options` (their method as given).

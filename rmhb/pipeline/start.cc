@@ -100,6 +100,28 @@ Eigen::VectorXd SettledState(const Model& model, const StartOptions& start, int*
                            " periods: not periodic at this forcing?");
 }
 
+Eigen::VectorXd ForcedRecordStart(const Model& model, seeding::RecordOptions* record, int* periods) {
+  *periods = 0;
+  if (model.problem.frequencies.size() == 1) {
+    const Eigen::VectorXd y = SettledState(model, StartOptions{}, periods);
+    record->transient = 0;
+    return y;
+  }
+  if (!model.original) return model.initial_state;
+  try {
+    const double settled = TorusSettleTime(model, StartOptions{}, periods);
+    if (settled > record->transient) {
+      record->t_end += settled - record->transient;
+      record->transient = settled;
+    } else {
+      *periods = 0;
+    }
+  } catch (const std::runtime_error&) {
+    *periods = 0;  // the record as it was
+  }
+  return model.initial_state;
+}
+
 double TorusSettleTime(const Model& model, const StartOptions& start, int* periods) {
   if (!model.original) throw std::runtime_error("two motions side by side need explicit ODEs");
   const integrators::OdeSystem one = model.original(model.problem.frequencies);

@@ -65,6 +65,17 @@ Eigen::VectorXd SettledState(const Model& model, const StartOptions& start, int*
 // integration fails.
 double TorusSettleTime(const Model& model, const StartOptions& start, int* periods);
 
+// Where the record of a forced motion (every base frequency known) starts
+// when no transient was given (identify, analyze): a periodic motion from
+// its settled state (SettledState; the record then runs from t = 0 to its
+// t_end), a torus from the model's start with the record moved past
+// TorusSettleTime when that is later than its transient (as it was when the
+// two motions do not meet). A damping of 0.1 leaves e^-5 of the start after
+// a default transient, which the identification's polish cannot fit.
+// Sets *periods (0: the record as it was); throws std::runtime_error when a
+// periodic motion does not settle within the budget.
+Eigen::VectorXd ForcedRecordStart(const Model& model, seeding::RecordOptions* record, int* periods);
+
 }  // namespace rmhb
 
 #endif  // RMHB_PIPELINE_START_H_

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 
 #include "examples/example_model.h"
 #include "integrators/event_detection.h"
@@ -213,6 +214,66 @@ TEST(Identify, AModelsLimitCycleFrequencyAgreesWithItsMeasuredPeriod) {
   EXPECT_NEAR(s.identification.bases[0].frequency, 2 * M_PI / period, 1e-7);
   EXPECT_EQ(s.ToJson()["bases"][0]["frequency"].get<double>(), s.identification.bases[0].frequency);
   EXPECT_NE(s.FullReport().find("trajectory: CVODE"), std::string::npos) << s.FullReport();
+}
+
+// The pendulum's own motion over the default 300 periods: CVODE's phase
+// drift leaves sidebands near 3e-9 of the fundamental, which identification
+// took for the lines of a second base (w2 = -1.7e-10, no_convergence) until
+// the model's records were read down to kRecordLineThreshold only. Exact:
+// w = pi / (2 K(k)), k = sin(q0 / 2).
+TEST(Identify, AConservativeOrbitHasOneBaseDespiteTheIntegratorsDrift) {
+  const Model model = LoadModel("tests/pipeline/models/original-pendulum.yaml");
+  const IdentifySummary s = Identify(model, IdentifyOptions{});
+  ASSERT_EQ(s.identification.status, frequency_id::IdentificationStatus::kSuccess) << s.FullReport();
+  ASSERT_EQ(s.identification.bases.size(), 1u);
+  EXPECT_NEAR(s.identification.bases[0].frequency, M_PI / (2 * std::comp_ellint_1(std::sin(0.75))), 1e-9);
+}
+
+// Van der Pol at mu = 1.5 sampled 32 times per period: its harmonic 21
+// folded back to 11.486, which identification took for a second base. The
+// record is now sampled until nothing folds back (RecordUnaliased); its
+// frequency against the period CVODE measures between upward crossings.
+TEST(Identify, ARelaxationCycleIsSampledSoThatNoHarmonicFoldsBack) {
+  const Model model = LoadModel("tests/pipeline/models/relaxation-vdp.yaml");
+  const IdentifySummary s = Identify(model, IdentifyOptions{});
+  ASSERT_TRUE(s.usable()) << s.FullReport();
+  ASSERT_EQ(s.identification.bases.size(), 1u) << s.FullReport();
+  EXPECT_TRUE(s.sampling.resolved()) << s.sampling.top_band;
+  EXPECT_LT(s.sampling.thinning, kRecordOversampling);  // denser than 32 per period
+  EXPECT_EQ(s.signal.dt * s.sampling.oversampling, 2 * M_PI / 0.94 / 32 * s.sampling.thinning);
+  integrators::IntegratorOptions tight;
+  tight.relative_tolerance = 1e-13;
+  tight.absolute_tolerance = 1e-15;
+  const double period = integrators::LimitCyclePeriod(
+      model.original(model.problem.frequencies), model.initial_state, 400, [](double, const double* y) { return y[0]; },
+      +1, 20, tight);
+  EXPECT_NEAR(s.identification.bases[0].frequency, 2 * M_PI / period, 1e-9);
+  EXPECT_EQ(s.ToJson()["sampling"]["thinning"].get<int>(), s.sampling.thinning);
+}
+
+// A forced Duffing file with damping 0.05: the default transient (a tenth of
+// the record) left e^-4 of the start in the record and polishing stopped
+// (no_convergence). Recorded from its settled state, every line is a
+// harmonic of W, the fundamental's amplitude that of the harmonic balance
+// solution's (RHB on the recast, an independent method).
+TEST(Identify, AForcedMotionIsRecordedOnceItHasSettled) {
+  const Model model = LoadModel("tests/pipeline/models/forced-duffing.yaml");
+  const IdentifySummary s = Identify(model, IdentifyOptions{});
+  ASSERT_EQ(s.identification.status, frequency_id::IdentificationStatus::kSuccess) << s.FullReport();
+  EXPECT_GT(s.settle_periods, 0);
+  EXPECT_NE(s.FullReport().find("settled"), std::string::npos);
+  const SolveSummary hb = SolveModel(model, SolveOptions{});
+  ASSERT_EQ(hb.status, SolveStatus::kConverged) << hb.message;
+  const HarmonicSolution& x = *hb.harmonic_balance.solution;
+  const double W = model.problem.frequencies[0];
+  std::complex<double> sum = 0;
+  constexpr int kSamples = 64;
+  for (int j = 0; j < kSamples; ++j) {
+    const double t = 2 * M_PI / W * j / kSamples;
+    sum += x.Value(0, t) * std::exp(std::complex<double>(0, -W * t));
+  }
+  ASSERT_NEAR(s.identification.components[0].frequency, W, 1e-12);
+  EXPECT_NEAR(s.identification.components[0].amplitude(0), 2 * std::abs(sum) / kSamples, 1e-8);
 }
 
 TEST(Identify, ASampledTwoToneSignalAndARecordCutTooShort) {
