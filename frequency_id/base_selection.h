@@ -21,8 +21,10 @@ struct BaseSelectionOptions {
   // A single base (periodic signal) may carry more harmonics than
   // max_order: its labels are bounded by max(max_order, max_harmonic), and
   // two frequencies with a ratio p/q, p and q up to that bound, count as
-  // dependent.
-  int max_harmonic = 40;
+  // dependent. 128: a friction or contact cycle's odd harmonics reach 63
+  // and beyond above 1e-8 (at 40 they were unexplained lines); a ratio of
+  // independent bases is ~1/q^2 from every p/q, far beyond any tolerance.
+  int max_harmonic = 128;
   // Frequencies that must be bases (e.g. a forcing frequency), used exactly
   // as given. They come first in the result, in the given order.
   std::vector<double> known_frequencies;

@@ -55,7 +55,8 @@ void AddIdentifyOptions(CLI::App* app, IdentifyArgs* a) {
   app->add_option("--plot", a->plot, "Draw the spectrum with the labelled lines into FILE.png or FILE.svg");
   app->add_flag("--json", a->json, "Machine-readable output");
   app->footer("Exit codes: 0 ok, 1 usage, 2 bad input (unreadable CSV, unknown model, bad value,\n"
-              "gnuplot missing for --plot), 3 no usable bases found (the message says why), 4 internal.");
+              "gnuplot missing for --plot), 3 no usable bases found (the message says why) or the\n"
+              "record's integration stopped, 4 internal.");
 }
 
 int RunIdentify(const IdentifyArgs& a) {
@@ -74,7 +75,17 @@ int RunIdentify(const IdentifyArgs& a) {
     if (!read.ok()) throw std::invalid_argument(read.message);
     summary = Identify(std::move(signal), options);
   } else {
-    summary = Identify(examples::LoadModelOrExample(a.model, ParseOverrides(a.set)), options);
+    const Model model = examples::LoadModelOrExample(a.model, ParseOverrides(a.set));
+    try {
+      summary = Identify(model, options);
+    } catch (const std::runtime_error& e) {
+      // The model's record could not be integrated (a stick of sign()
+      // friction, a blow-up): no record, no bases; not an internal error.
+      const std::string why = std::string("the record's integration stopped: ") + e.what();
+      if (a.json) std::cout << json{{"status", "integration_stopped"}, {"message", why}}.dump(1) << "\n";
+      std::fprintf(stderr, "rmhb: identify: %s\n", why.c_str());
+      return kExitNotConverged;
+    }
   }
   json out = summary.ToJson();
   if (!a.plot.empty()) {

@@ -81,9 +81,8 @@ constexpr double kSeedSymmetryTolerance = 1e-9;
 constexpr int kMaxPeriodOrder = 1024;
 
 frequency_id::IdentificationOptions IdentificationOptionsFor(const HarmonicBalanceProblem& problem, int window) {
-  frequency_id::IdentificationOptions id;
+  frequency_id::IdentificationOptions id = RecordIdentificationOptions();
   id.window_order = window;
-  id.relative_threshold = kRecordLineThreshold;
   // The cost grows with the lines modelled; 32 hold every line above 1e-8
   // of the bundled examples but the asymmetric pendulum's (~60), where they
   // halve the time and keep the bases within 1e-12 (benchmark, section 4).

@@ -29,12 +29,10 @@ void CutRecord(const IdentifyOptions& o, frequency_id::Signal* signal) {
   signal->t0 += first * signal->dt;
 }
 
-// `line_threshold`: IdentificationOptions::relative_threshold.
+// `options`: a user's signal's (the defaults) or a model's record's.
 IdentifySummary IdentifyRecord(frequency_id::Signal signal, const std::vector<double>& known,
-                               const IdentifyOptions& o, double line_threshold) {
+                               const IdentifyOptions& o, frequency_id::IdentificationOptions options) {
   IdentifySummary s;
-  frequency_id::IdentificationOptions options;
-  options.relative_threshold = line_threshold;
   options.window_order = o.window;
   options.bases.known_frequencies = known;
   frequency_id::IdentifyFrequencies(options, signal, &s.identification);
@@ -87,7 +85,7 @@ IdentifySummary Identify(const Model& model, const IdentifyOptions& o) {
   frequency_id::Signal signal = o.samples_per_period > 0 ? RecordOriginal(model, w, y0, record)
                                                          : RecordUnaliased(model, w, y0, record, &sampling);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  IdentifySummary s = IdentifyRecord(std::move(signal), known, o, kRecordLineThreshold);
+  IdentifySummary s = IdentifyRecord(std::move(signal), known, o, RecordIdentificationOptions());
   s.rest_perturbation = perturbation;
   s.settle_periods = settle_periods;
   s.sampling = sampling;
@@ -99,7 +97,7 @@ IdentifySummary Identify(const Model& model, const IdentifyOptions& o) {
 IdentifySummary Identify(frequency_id::Signal signal, const IdentifyOptions& o) {
   if (const std::string error = o.IsValid(); !error.empty()) throw std::invalid_argument(error);
   CutRecord(o, &signal);
-  return IdentifyRecord(std::move(signal), {}, o, frequency_id::IdentificationOptions{}.relative_threshold);
+  return IdentifyRecord(std::move(signal), {}, o, frequency_id::IdentificationOptions{});
 }
 
 std::string IdentifySummary::BriefReport() const { return identification.BriefReport(); }

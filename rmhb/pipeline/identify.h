@@ -12,7 +12,8 @@
 // summary; its JSON is ToJson(). No usable bases is a status
 // (identification.status); misuse (invalid options, a model without
 // original equations, a record too short once cut) throws
-// std::invalid_argument.
+// std::invalid_argument; a model's record whose integration stops (a stick
+// of sign() friction, a blow-up) throws std::runtime_error with where and why.
 
 #include <string>
 #include <vector>

@@ -508,6 +508,13 @@ std::vector<double> TopBandLevels(const frequency_id::Signal& record, int oversa
 
 }  // namespace
 
+frequency_id::IdentificationOptions RecordIdentificationOptions() {
+  frequency_id::IdentificationOptions id;
+  id.relative_threshold = kRecordLineThreshold;
+  id.bases.relative_tolerance_floor = 1e-10;
+  return id;
+}
+
 bool RecordSampling::resolved() const { return top_band <= kRecordLineThreshold; }
 
 frequency_id::Signal RecordUnaliased(const Model& model, const std::vector<double>& w, const Eigen::VectorXd& y0,

@@ -17,6 +17,7 @@
 
 #include <Eigen/Dense>
 
+#include "frequency_id/frequency_identification.h"
 #include "frequency_id/signal.h"
 #include "integrators/integration_result.h"
 #include "integrators/integrator_options.h"
@@ -222,6 +223,13 @@ struct RecordSampling {
 // lines of a second base, w2 = -1.7e-10), and a guess needs nothing that
 // weak (Newton adds it).
 constexpr double kRecordLineThreshold = 1e-8;
+// Identification options for such a record: lines down to
+// kRecordLineThreshold, and a line labelled when it is within 1e-10 of its
+// lattice point relative (BaseSelectionOptions::relative_tolerance_floor):
+// the drift also bends a harmonic's frequency off k w1 by more than its
+// standard error claims (the Kepler orbit's second harmonic: 8.8e-12 off at
+// an uncertainty of 5e-13, which made the harmonics a torus of two bases).
+frequency_id::IdentificationOptions RecordIdentificationOptions();
 // RecordOriginal at the asked rate; when the band below its Nyquist
 // frequency holds a line above kRecordLineThreshold of the strongest, again
 // at kRecordOversampling times that rate, thinned to every 2nd sample if its

@@ -228,6 +228,9 @@ TEST(CliOptions, InvalidValuesAreRejectedClearly) {
       {{"solve", "duffing", "--order", "5", "--samples", "12"}, 2, "samples below the alias-free bound (21)"},
       {{"identify", "pendulum", "--t-end", "-5"}, 1, "'-5' must be a finite number > 0"},
       {{"identify", "pendulum", "--transient", "nan"}, 1, "'nan' must be a finite number >= 0"},
+      // An integration that stops is no internal error (it was exit 4).
+      {{"identify", "tests/pipeline/models/coulomb-friction.yaml"}, 3, "the record's integration stopped"},
+      {{"identify", "tests/pipeline/models/coulomb-friction.yaml", "--json"}, 3, "\"status\": \"integration_stopped\""},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(Show(c.args));

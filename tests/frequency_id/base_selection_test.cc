@@ -85,6 +85,20 @@ TEST(SelectBases, PeriodicSignalHasOneBase) {
   ExpectLabels(selection, truth);
 }
 
+// A dry-friction or contact cycle: odd harmonics to 63 and beyond, slowly
+// decaying (at max_harmonic 40 the 12 beyond 39 were unexplained lines, and
+// `identify` said unexplained_components on a periodic record).
+TEST(SelectBases, AKinkedCyclesHighHarmonicsAreAllLabelled) {
+  const double w = 0.8;
+  std::vector<TrueLine> truth;
+  for (int n = 1; n <= 75; n += 2) truth.push_back({{n}, 1.0 / (n * n)});
+  BaseSelection selection;
+  ASSERT_TRUE(SelectBases(MakeLines({w}, truth, 1e-13), BaseSelectionOptions(), &selection));
+  ASSERT_EQ(selection.bases.size(), 1u) << selection.message;
+  EXPECT_EQ(selection.num_explained, static_cast<int>(truth.size()));
+  ExpectLabels(selection, truth);
+}
+
 TEST(SelectBases, MissingFundamentalIsTheCommonDivisor) {
   const double w = 0.41;
   const std::vector<TrueLine> truth{{{2}, 1.0}, {{3}, 0.5}, {{5}, 0.1}};
