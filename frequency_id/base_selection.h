@@ -50,6 +50,10 @@ struct BaseFrequency {
   double uncertainty = 0.0;
   bool known = false;  // taken from known_frequencies
   int line = -1;       // index of the line labelled as this base alone, or -1
+  // IdentifyFrequencies: how far the record's two halves disagree on the
+  // base's line, when beyond its statistical error (then also the
+  // uncertainty); 0 otherwise.
+  double drift = 0.0;
 };
 
 struct BaseSelection {

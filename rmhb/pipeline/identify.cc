@@ -135,7 +135,8 @@ json IdentifySummary::ToJson() const {
   const frequency_id::IdentificationSummary& id = identification;
   json bases = json::array();
   for (const auto& b : id.bases)
-    bases.push_back({{"frequency", JsonNumber(b.frequency)}, {"uncertainty", JsonNumber(b.uncertainty)}, {"known", b.known}});
+    bases.push_back({{"frequency", JsonNumber(b.frequency)}, {"uncertainty", JsonNumber(b.uncertainty)},
+                     {"drift", JsonNumber(b.drift)}, {"known", b.known}});
   json components = json::array();
   for (const auto& c : id.components) {
     json amp = json::array(), phase = json::array();

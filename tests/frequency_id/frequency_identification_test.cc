@@ -205,6 +205,42 @@ TEST(FrequencyIdentification, PeriodicSignalHasOneBase) {
   EXPECT_NEAR(summary.mean(0), 0.5, 1e-10);
 }
 
+// A record whose frequency drifts (an integrator's phase error, a slowly
+// changing system): cos(w t + eps t^2 / 2), the instantaneous frequency
+// w + eps t. The joint fit of a stationary line claims ~1e-14; the halves
+// of the record see w + eps T / 4 and w + 3 eps T / 4, and the base's
+// uncertainty is what they disagree on, eps T / 2 (the exact drift), which
+// covers the distance to the mean frequency w + eps T / 2 from its start.
+// A stationary record has no drift and keeps its statistical error.
+TEST(FrequencyIdentification, ADriftingRecordWidensItsBasesUncertainty) {
+  const double w = 1.0, eps = 1e-12, dt = 0.05;
+  const int n = 40000;
+  const double T = n * dt;
+  Signal drifting, steady;
+  drifting.dt = steady.dt = dt;
+  drifting.samples.resize(n, 1);
+  steady.samples.resize(n, 1);
+  for (int i = 0; i < n; ++i) {
+    const double t = i * dt;
+    drifting.samples(i, 0) = std::cos(w * t + 0.5 * eps * t * t);
+    steady.samples(i, 0) = std::cos(w * t);
+  }
+  IdentificationOptions options;
+  options.relative_threshold = 1e-5;  // the chirp's own sidebands (~5e-7) are not lines here
+  IdentificationSummary d, s;
+  ASSERT_TRUE(IdentifyFrequencies(options, drifting, &d)) << d.FullReport();
+  ASSERT_TRUE(IdentifyFrequencies(options, steady, &s)) << s.FullReport();
+  ASSERT_EQ(d.bases.size(), 1u);
+  ASSERT_EQ(s.bases.size(), 1u);
+  EXPECT_NEAR(d.bases[0].drift, eps * T / 2, 0.05 * eps * T / 2);
+  EXPECT_EQ(d.bases[0].uncertainty, d.bases[0].drift);
+  EXPECT_LE(std::abs(d.bases[0].frequency - (w + eps * T / 2)), d.bases[0].uncertainty);
+  EXPECT_NE(d.FullReport().find("halves disagree"), std::string::npos);
+  EXPECT_EQ(s.bases[0].drift, 0.0);
+  EXPECT_LT(s.bases[0].uncertainty, 1e-13);
+  EXPECT_NEAR(s.bases[0].frequency, w, 1e-13);
+}
+
 // A forced response: the forcing frequency is weak in the record and the
 // autonomous frequency is not a rational multiple of it. The forcing must be
 // kept as the first base, exactly as given.
