@@ -110,9 +110,9 @@ std::string IdentifySummary::FullReport() const {
                   identification.num_samples, identification.duration, integration_seconds * 1e3);
     out += line;
     if (sampling.oversampling > 1) {
-      std::snprintf(line, sizeof line, "  sampled %d times as densely as 32 per period, every %d%s sample kept: %s %.2g of the "
-                    "strongest line near Nyquist (level %.0e)\n", sampling.oversampling, sampling.thinning,
-                    sampling.thinning == 1 ? "st" : sampling.thinning == 2 ? "nd" : "th",
+      std::snprintf(line, sizeof line, "  sampled %d times as densely as 32 per period (a line would fold back), %s: %s "
+                    "%.2g of the strongest line near Nyquist (level %.0e)\n", sampling.oversampling,
+                    sampling.thinning == 1 ? "every sample kept" : "every 2nd sample kept",
                     sampling.resolved() ? "resolved," : "NOT RESOLVED, lines above Nyquist may fold back:",
                     sampling.top_band, kRecordLineThreshold);
       out += line;
