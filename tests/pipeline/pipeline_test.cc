@@ -10,8 +10,8 @@
 
 #include <cmath>
 
-#include "integrators/event_detection.h"
 #include "rmhb/model/model_error.h"
+#include "tests/pipeline/shooting.h"
 
 namespace rmhb {
 namespace {
@@ -28,12 +28,7 @@ TEST(Pipeline, AnalyzeFindsTheLimitCycleOfAModelFileWithDefaults) {
   EXPECT_LT(s.validation->max_error, 1e-8) << s.FullReport();
   const double w = s.solve->solution->frequencies()[0];
 
-  integrators::IntegratorOptions tight;
-  tight.relative_tolerance = 1e-13;
-  tight.absolute_tolerance = 1e-15;
-  const double period = integrators::LimitCyclePeriod(
-      model.original(model.problem.frequencies), model.initial_state, 400, [](double, const double* y) { return y[0]; },
-      +1, 20, tight);
+  const double period = testing::LimitCyclePeriodOf(model);
   EXPECT_NEAR(2 * M_PI / w, period, 1e-9 * period) << s.FullReport();
   // The identified frequency seeded Newton close by.
   EXPECT_NEAR(s.seed->frequencies[0], w, 1e-8);

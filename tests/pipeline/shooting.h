@@ -7,7 +7,8 @@
 // multipliers, and the parameter where one crosses the unit circle by the
 // secant method on them; for a model with switches (max, ...) the
 // integration locates them by root finding. Used by tests/pipeline/branch_test.cc and
-// tests/benchmarks/bifurcation_benchmark.cc.
+// tests/benchmarks/bifurcation_benchmark.cc; the period of a limit cycle
+// by its zero crossings (studies_test.cc, pipeline_test.cc).
 
 #include <cmath>
 #include <complex>
@@ -16,6 +17,7 @@
 #include <Eigen/Dense>
 
 #include "integrators/cvode_integrator.h"
+#include "integrators/event_detection.h"
 #include "integrators/floquet.h"
 #include "integrators/switched_integration.h"
 #include "rmhb/pipeline/model.h"
@@ -124,6 +126,17 @@ inline double ReferenceCrossing(const Model& model, double a, double b, bool per
   if (!(std::abs(gb) <= 1e-6)) return NAN;
   *y = ob.y;
   return b;
+}
+
+// The period of a self-excited model's limit cycle: CVODE (rtol 1e-13) from
+// its initial state, between upward zero crossings of its first state after
+// 400 time units, averaged over 20 of them.
+inline double LimitCyclePeriodOf(const Model& model) {
+  integrators::IntegratorOptions tight;
+  tight.relative_tolerance = 1e-13;
+  tight.absolute_tolerance = 1e-15;
+  return integrators::LimitCyclePeriod(model.original(model.problem.frequencies), model.initial_state, 400,
+                                       [](double, const double* y) { return y[0]; }, +1, 20, tight);
 }
 
 }  // namespace rmhb::testing

@@ -10,7 +10,6 @@
 #include <complex>
 
 #include "examples/example_model.h"
-#include "integrators/event_detection.h"
 #include "rmhb/model/model_error.h"
 #include "rmhb/pipeline/branch.h"
 #include "rmhb/pipeline/census.h"
@@ -18,6 +17,7 @@
 #include "rmhb/pipeline/settings.h"
 #include "rmhb/pipeline/simulate.h"
 #include "rmhb/pipeline/solve.h"
+#include "tests/pipeline/shooting.h"
 
 namespace rmhb {
 namespace {
@@ -205,12 +205,7 @@ TEST(Identify, AModelsLimitCycleFrequencyAgreesWithItsMeasuredPeriod) {
   const Model model = LoadModel(kRayleigh);
   const IdentifySummary s = Identify(model, IdentifyOptions{});
   ASSERT_TRUE(s.usable()) << s.FullReport();
-  integrators::IntegratorOptions tight;
-  tight.relative_tolerance = 1e-13;
-  tight.absolute_tolerance = 1e-15;
-  const double period = integrators::LimitCyclePeriod(
-      model.original(model.problem.frequencies), model.initial_state, 400, [](double, const double* y) { return y[0]; },
-      +1, 20, tight);
+  const double period = testing::LimitCyclePeriodOf(model);
   EXPECT_NEAR(s.identification.bases[0].frequency, 2 * M_PI / period, 1e-7);
   EXPECT_EQ(s.ToJson()["bases"][0]["frequency"].get<double>(), s.identification.bases[0].frequency);
   EXPECT_NE(s.FullReport().find("trajectory: CVODE"), std::string::npos) << s.FullReport();
@@ -247,12 +242,7 @@ TEST(Identify, ARelaxationCycleIsSampledSoThatNoHarmonicFoldsBack) {
   EXPECT_TRUE(s.sampling.resolved()) << s.sampling.top_band;
   EXPECT_LT(s.sampling.thinning, kRecordOversampling);  // denser than 32 per period
   EXPECT_EQ(s.signal.dt * s.sampling.oversampling, 2 * M_PI / 0.94 / 32 * s.sampling.thinning);
-  integrators::IntegratorOptions tight;
-  tight.relative_tolerance = 1e-13;
-  tight.absolute_tolerance = 1e-15;
-  const double period = integrators::LimitCyclePeriod(
-      model.original(model.problem.frequencies), model.initial_state, 400, [](double, const double* y) { return y[0]; },
-      +1, 20, tight);
+  const double period = testing::LimitCyclePeriodOf(model);
   EXPECT_NEAR(s.identification.bases[0].frequency, 2 * M_PI / period, 1e-9);
   EXPECT_EQ(s.ToJson()["sampling"]["thinning"].get<int>(), s.sampling.thinning);
 }
