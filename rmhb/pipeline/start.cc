@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "integrators/cvode_integrator.h"
 #include "rmhb/pipeline/analyze.h"
@@ -30,6 +32,51 @@ std::optional<HarmonicBalanceSummary> SolveFromRecord(const Model& model, const 
   const AnalyzeSummary a = Analyze(settled, analyze);
   if (a.solve && a.solve->usable()) return a.solve;
   *why = std::string(ToString(a.status)) + (a.message.empty() ? "" : ": " + a.message);
+  return std::nullopt;
+}
+
+// A forced model's solution that does not move: every variable the same
+// at 64 instants of the period to 1e-12 of its size.
+bool ConstantInTime(const HarmonicSolution& x) {
+  const double T = 2 * M_PI / x.frequencies()[0];
+  for (int v = 0; v < x.num_variables(); ++v) {
+    double low = x.Value(v, 0), high = low;
+    for (int j = 1; j < 64; ++j) {
+      const double z = x.Value(v, T * j / 64);
+      low = std::min(low, z);
+      high = std::max(high, z);
+    }
+    if (high - low > 1e-12 * std::max({1.0, std::abs(low), std::abs(high)})) return false;
+  }
+  return true;
+}
+
+// A forced model whose guess (rest, for a file without one) converged to a
+// solution constant in time: rest is a solution only where the forcing is
+// parametric (x'' + c x' + (1 + h cos 2t) x + x^3 = 0), and there it may be
+// unstable while the motion settles on an orbit that moves. That orbit,
+// from the model's start (moved off rest as RecordStart does), replaces
+// the constant one; a motion that settles to rest keeps it (nullopt).
+std::optional<StartedSolve> MovingAttractor(const Model& model, const HarmonicBalanceOptions& options,
+                                            const StartOptions& start, StartedSolve* constant) {
+  Model moved = model;
+  double perturbation = 0;
+  moved.initial_state = RecordStart(model, &perturbation);
+  std::string why;
+  try {
+    int periods = 0;
+    const Eigen::VectorXd y = SettledState(moved, start, &periods);
+    std::optional<HarmonicBalanceSummary> solved = SolveFromRecord(model, y, options, &why);
+    if (solved && !ConstantInTime(*solved->solution)) {
+      const std::string note = "from the guess: a solution constant in time; the motion from the start" +
+                               std::string(perturbation != 0 ? " (+ 0.1, rest is an equilibrium)" : "") +
+                               " settles on one that moves";
+      return StartedSolve{*solved, "simulation (" + std::to_string(periods) + " periods to settle)", note, periods};
+    }
+    if (!solved) constant->note = "the guess's solution is constant in time; from the simulated start: " + why;
+  } catch (const std::runtime_error& e) {
+    constant->note = "the guess's solution is constant in time; simulated start: " + std::string(e.what());
+  }
   return std::nullopt;
 }
 
@@ -177,6 +224,9 @@ StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess
   const HarmonicBalanceSummary& first = out.summary;
   const bool far = first.short_of_target && first.truncation_estimate > kFarFromTarget;
   const bool keep = !far && (first.usable() || (first.short_of_target && first.physical));
+  if (keep && forced && ConstantInTime(*first.solution)) {
+    if (std::optional<StartedSolve> moving = MovingAttractor(model, options, start, &out)) return *moving;
+  }
   if (keep || (!model.original && !model.original_dae)) return out;
   out.note = "from the guess: " + WhyNotKept(out.summary);
   // The orbit on a sub-multiple of its frequency: restated on its own.

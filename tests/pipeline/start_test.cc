@@ -254,6 +254,40 @@ TEST(Start, TwoMotionsOfAForcedTorusMeetWhenTheHomogeneousPartHasDecayed) {
 // transient has decayed (the default tenth of the record left e^-5 of it,
 // and the identification failed), identified on the known bases, solved and
 // checked against CVODE.
+// Parametric excitation: the default guess (rest) converges to x = 0, a
+// true solution but an unstable one (h = 0.4 > 2c); the motion from rest +
+// 0.1 settles on the orbit that moves, which replaces it. Checked: CVODE
+// from its own state, and its multipliers (CVODE's monodromy) inside the
+// unit circle. With h = 0.1 rest is stable and stays the answer.
+TEST(Start, AConstantSolutionOfAParametricModelGivesWayToTheOrbitItsMotionSettlesOn) {
+  SolveSettings settings;
+  settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve
+  const PreparedSolve prepared = PrepareSolve(LoadModel("tests/pipeline/models/parametric-duffing.yaml"), settings);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.validate = true;
+  options.stability = true;
+  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  EXPECT_NE(s.start_route.find("simulation"), std::string::npos) << s.start_route;
+  EXPECT_NE(s.start_note.find("constant in time"), std::string::npos) << s.start_note;
+  EXPECT_GT(s.solution().Amplitude(0), 0.1);
+  ASSERT_TRUE(s.validation && s.validation->report.ok);
+  EXPECT_LT(s.validation->verdict.relative_error, 1e-8);
+  ASSERT_TRUE(s.stability && s.stability->floquet);
+  for (const auto& mu : s.stability->floquet->multipliers) EXPECT_LT(std::abs(mu), 1 - 1e-3);
+
+  const PreparedSolve weak =
+      PrepareSolve(LoadModel("tests/pipeline/models/parametric-duffing.yaml", {{"h", 0.1}}), settings);
+  options.harmonic_balance = weak.options;
+  const SolveSummary rest = SolveModel(weak.model, weak.guess, options);
+  ASSERT_EQ(rest.status, SolveStatus::kConverged) << rest.FullReport();
+  EXPECT_EQ(rest.start_route, "guess");
+  EXPECT_LT(rest.solution().Amplitude(0), 1e-12);
+  ASSERT_TRUE(rest.stability);
+  EXPECT_EQ(rest.stability->verdict, StabilityVerdict::kStable);
+}
+
 TEST(Start, AForcedTorusWithoutAGuessIsRecordedOnceItHasSettled) {
   SolveSettings settings;
   settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve
