@@ -83,7 +83,7 @@ class Loader {
     LoadParameters(root["parameters"]);
     YAML::Node frequencies = root["frequencies"];
     if (!frequencies || frequencies.IsNull())
-      frequencies = FrequencyFromForcing(root["equations"], Where(root), root["initial_state"].IsDefined());
+      frequencies = FrequencyFromForcing(root["equations"], Where(root));
     LoadFrequencies(frequencies);
     LoadEquations(root["equations"], Where(root));
     LoadConditions(root["conditions"]);
@@ -252,11 +252,11 @@ class Loader {
   // the base when every other a is an integer multiple of it (cos(w t) and
   // sin(3 w t): w). A parameter that is the base stays one (--set w,
   // --continue w). No t at all (an autonomous model): one unknown base,
-  // whose guess the loader reads off the trajectory from initial_state
-  // (frequency_from_trajectory; rmhb/pipeline/model.h) and passes back as
-  // frequency_guess. Anything else (t outside a sinusoid; incommensurate a;
-  // an autonomous model without initial_state) asks for 'frequencies'.
-  YAML::Node FrequencyFromForcing(const YAML::Node& equations, const SourceLocation& root, bool has_initial_state) {
+  // whose guess the loader reads off the trajectory from initial_state, or
+  // from next to rest without one (frequency_from_trajectory;
+  // rmhb/pipeline/model.h) and passes back as frequency_guess. Anything else
+  // (t outside a sinusoid; incommensurate a) asks for 'frequencies'.
+  YAML::Node FrequencyFromForcing(const YAML::Node& equations, const SourceLocation& root) {
     const std::string missing =
         "missing 'frequencies': give each base frequency, a number if known or {guess: value} if it is "
         "solved for";
@@ -299,7 +299,7 @@ class Loader {
       values.push_back(value);
       if (base < 0 || value < values[base]) base = static_cast<int>(values.size()) - 1;
     }
-    if (rates.empty() && only_sinusoids && (has_initial_state || !frequency_guess_.empty())) {
+    if (rates.empty() && only_sinusoids) {
       model_.frequency_from_trajectory = frequency_guess_.empty();
       model_.frequency_guess = frequency_guess_;
       YAML::Node node;
@@ -307,12 +307,8 @@ class Loader {
       return node;
     }
     if (rates.empty() || !only_sinusoids)
-      throw ModelError(missing + (rates.empty() && only_sinusoids
-                                      ? " (no t in the equations: an autonomous model's frequency is solved "
-                                        "for from a guess, {guess: value}, or from initial_state, whose "
-                                        "trajectory gives the guess)"
-                                      : " (the equations' t is not only in sin(a*t + b) or cos(a*t + b) of "
-                                        "commensurate rates a, from which it could be read)"),
+      throw ModelError(missing + " (the equations' t is not only in sin(a*t + b) or cos(a*t + b) of "
+                                 "commensurate rates a, from which it could be read)",
                        root);
     for (double v : values)
       if (std::abs(v / values[base] - std::round(v / values[base])) > 1e-12)

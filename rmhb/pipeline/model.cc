@@ -194,7 +194,14 @@ double FrequencyFromTrajectory(const model::ModelDefinition& definition, const M
                                 "): give frequencies: [{guess: value}]",
                             at);
   const integrators::OdeSystem ode = p.original(p.problem.frequencies);
-  const double scale = FlowTimeScale(ode, p.initial_state, at);
+  // A file without initial_state starts at its guess's state, at rest
+  // without one, which a self-excited model has as its equilibrium: the
+  // trajectory starts next to it, as every record of the model's own motion
+  // does (RecordStart). A given initial_state at an equilibrium is refused
+  // (FlowTimeScale): a conservative family has no orbit to prefer.
+  double perturbation = 0;
+  const Eigen::VectorXd y0 = definition.initial_state.empty() ? RecordStart(p, &perturbation) : p.initial_state;
+  const double scale = FlowTimeScale(ode, y0, at);
   integrators::IntegratorOptions io;
   io.method = integrators::IntegratorOptions::Method::kBdf;  // stiff or not
   io.relative_tolerance = 1e-10;
@@ -202,7 +209,7 @@ double FrequencyFromTrajectory(const model::ModelDefinition& definition, const M
   std::vector<double> returns;
   double horizon = 20 * scale;
   for (; horizon <= 1e5 * scale; horizon *= 8) {
-    returns = integrators::SectionReturns(ode, p.initial_state, horizon, io);
+    returns = integrators::SectionReturns(ode, y0, horizon, io);
     if (returns.size() >= 3) break;
   }
   char text[192];
@@ -216,9 +223,9 @@ double FrequencyFromTrajectory(const model::ModelDefinition& definition, const M
   const std::size_t last = returns.size();
   const double period = last >= 2 ? returns[last - 1] - returns[last - 2] : returns[0];
   std::snprintf(text, sizeof text,
-                "default guess w = %.9g: the trajectory from initial_state, period %.9g between its "
-                "returns %zu and %zu to the section through initial_state",
-                2 * M_PI / period, period, last - 1, last);
+                "default guess w = %.9g: the trajectory from initial_state%s, period %.9g between its "
+                "returns %zu and %zu to the section through its start",
+                2 * M_PI / period, perturbation != 0 ? " + 0.1 (an equilibrium)" : "", period, last - 1, last);
   *note = text;
   return 2 * M_PI / period;
 }

@@ -129,13 +129,13 @@ inline double ReferenceCrossing(const Model& model, double a, double b, bool per
 }
 
 // The period of a self-excited model's limit cycle: CVODE (rtol 1e-13) from
-// its initial state, between upward zero crossings of its first state after
-// 400 time units, averaged over 20 of them.
-inline double LimitCyclePeriodOf(const Model& model) {
+// its initial state to t_end, the mean spacing of the upward zero crossings
+// of its first state after the first 20 (integrators::LimitCyclePeriod).
+inline double LimitCyclePeriodOf(const Model& model, double t_end = 400) {
   integrators::IntegratorOptions tight;
   tight.relative_tolerance = 1e-13;
   tight.absolute_tolerance = 1e-15;
-  return integrators::LimitCyclePeriod(model.original(model.problem.frequencies), model.initial_state, 400,
+  return integrators::LimitCyclePeriod(model.original(model.problem.frequencies), model.initial_state, t_end,
                                        [](double, const double* y) { return y[0]; }, +1, 20, tight);
 }
 

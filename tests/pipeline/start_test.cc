@@ -9,6 +9,7 @@
 #include "rmhb/pipeline/branch.h"
 #include "rmhb/pipeline/settings.h"
 #include "rmhb/pipeline/solve.h"
+#include "tests/pipeline/shooting.h"
 
 #include <gtest/gtest.h>
 
@@ -286,6 +287,45 @@ TEST(Start, AConstantSolutionOfAParametricModelGivesWayToTheOrbitItsMotionSettle
   EXPECT_LT(rest.solution().Amplitude(0), 1e-12);
   ASSERT_TRUE(rest.stability);
   EXPECT_EQ(rest.stability->verdict, StabilityVerdict::kStable);
+}
+
+// Nothing but the equations: the frequency's guess from the trajectory from
+// the file's start (rest, which is not this model's equilibrium), the orbit
+// by the automatic start. Its period against CVODE's between upward
+// crossings of u = 0 from the same start, and the solution against CVODE
+// from its own state. Such a file was refused (missing 'frequencies'); the
+// same equations moved to put the equilibrium at rest start next to it.
+TEST(Start, AnAutonomousFileWithNothingButItsEquationsFindsItsLimitCycle) {
+  SolveSettings settings;
+  settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve
+  const Model model = LoadModel("tests/pipeline/models/fitzhugh-nagumo.yaml");
+  EXPECT_NE(model.frequency_note.find("the trajectory from initial_state, period"), std::string::npos)
+      << model.frequency_note;
+  const PreparedSolve prepared = PrepareSolve(model, settings);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.validate = true;
+  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  ASSERT_TRUE(s.validation && s.validation->report.ok);
+  EXPECT_LT(s.validation->verdict.relative_error, 1e-8);
+  const double period = testing::LimitCyclePeriodOf(model, 4000);
+  EXPECT_NEAR(2 * M_PI / s.solution().frequencies()[0], period, 1e-8 * period);
+
+  // Van der Pol-Duffing written without frequencies or initial_state: rest is
+  // its equilibrium, and the trajectory starts 0.1 off it.
+  const Model at_rest = LoadModel("tests/pipeline/models/vdp-duffing-bare.yaml");
+  EXPECT_NE(at_rest.frequency_note.find("+ 0.1 (an equilibrium)"), std::string::npos) << at_rest.frequency_note;
+  const PreparedSolve bare = PrepareSolve(at_rest, settings);
+  options.harmonic_balance = bare.options;
+  const SolveSummary v = SolveModel(bare.model, bare.guess, options);
+  ASSERT_EQ(v.status, SolveStatus::kConverged) << v.FullReport();
+  ASSERT_TRUE(v.validation && v.validation->report.ok);
+  EXPECT_LT(v.validation->verdict.relative_error, 1e-8);
+  Model next_to_rest = at_rest;
+  next_to_rest.initial_state.array() += kRestPerturbation;
+  const double vdp_period = testing::LimitCyclePeriodOf(next_to_rest);
+  EXPECT_NEAR(2 * M_PI / v.solution().frequencies()[0], vdp_period, 1e-8 * vdp_period);
 }
 
 TEST(Start, AForcedTorusWithoutAGuessIsRecordedOnceItHasSettled) {
