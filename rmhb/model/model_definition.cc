@@ -159,9 +159,14 @@ class Loader {
       if (!internal::IsValidIdentifier(name))
         throw ModelError("'" + name + "' is not a valid variable name (letters, digits, _)",
                          Where(item), name);
-      if (IsReserved(name) || name == "w" || (name.size() > 1 && name[0] == 'w' &&
-                                              name.find_first_not_of("0123456789", 1) == std::string::npos))
-        throw ModelError("'" + name + "' is reserved and cannot be a variable name", Where(item), name);
+      const bool frequency_symbol =
+          name == "w" || (name.size() > 1 && name[0] == 'w' && name.find_first_not_of("0123456789", 1) == std::string::npos);
+      if (IsReserved(name) || frequency_symbol)
+        throw ModelError("'" + name + "' is reserved and cannot be a variable name" +
+                             (frequency_symbol ? " (w, w1, w2, ... are the base frequencies in guesses and "
+                                                 "conditions): rename it, e.g. " + name + "_"
+                                               : std::string()),
+                         Where(item), name);
       if (model_.IndexOfVariable(name) >= 0)
         throw ModelError("variable '" + name + "' declared twice", Where(item), name);
       model_.variables.push_back(name);

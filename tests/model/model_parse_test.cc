@@ -261,7 +261,8 @@ TEST(ModelErrors, Names) {
   EXPECT_EQ(ParseError("variables: [t]\nequations: [\"t' = 0\"]\nfrequencies: [1]\n"),
             "m.yaml:1:13: 't' is reserved and cannot be a variable name");
   EXPECT_EQ(ParseError("variables: [w2]\nequations: [\"w2' = 0\"]\nfrequencies: [1]\n"),
-            "m.yaml:1:13: 'w2' is reserved and cannot be a variable name");
+            "m.yaml:1:13: 'w2' is reserved and cannot be a variable name (w, w1, w2, ... are the base "
+            "frequencies in guesses and conditions): rename it, e.g. w2_");
   EXPECT_EQ(ParseError("variables: [x, x]\nequations: [\"x' = 0\", \"x' = 1\"]\nfrequencies: [1]\n"),
             "m.yaml:1:16: variable 'x' declared twice");
   EXPECT_EQ(ParseError("variables: [x]\nparameters: {sin: 1}\nequations: [\"x' = 0\"]\nfrequencies: [1]\n"),
