@@ -12,6 +12,7 @@
 #include "frequency_id/signal_io.h"
 #include "frequency_id/spectrum.h"
 #include "rmhb/cli/exit_codes.h"
+#include "rmhb/model/model_error.h"
 #include "rmhb/plot/figures.h"
 #include "rmhb/plot/plot.h"
 #include "examples/example_model.h"
@@ -78,6 +79,8 @@ int RunIdentify(const IdentifyArgs& a) {
     const Model model = examples::LoadModelOrExample(a.model, ParseOverrides(a.set));
     try {
       summary = Identify(model, options);
+    } catch (const model::ModelError&) {
+      throw;  // the model's own error: exit 2 with file:line:column, as everywhere
     } catch (const std::runtime_error& e) {
       // The model's record could not be integrated (a stick of sign()
       // friction, a blow-up): no record, no bases; not an internal error.
