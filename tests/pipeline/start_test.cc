@@ -217,6 +217,19 @@ TEST(Start, ARecastThatReachesNoSolutionFallsBackOnTheOriginalEquations) {
 namespace rmhb {
 namespace {
 
+// A model solved as `rmhb solve FILE --validate [--stability]` solves it:
+// the default tolerance, the automatic start.
+SolveSummary SolveAsTheCli(const Model& model, bool stability = false) {
+  SolveSettings settings;
+  settings.default_tol = SolveSettings::kDefaultTolerance;
+  const PreparedSolve prepared = PrepareSolve(model, settings);
+  SolveOptions options;
+  options.harmonic_balance = prepared.options;
+  options.validate = true;
+  options.stability = stability;
+  return SolveModel(prepared.model, prepared.guess, options);
+}
+
 // Two motions of x'' + c x' + x = F1 cos W1 t + F2 cos W2 t differ by the
 // homogeneous solution d from d(0) = d'(0) = 0.1 (the second starts 0.1 off
 // rest in both states), and the forced response is known in closed form:
@@ -261,14 +274,7 @@ TEST(Start, TwoMotionsOfAForcedTorusMeetWhenTheHomogeneousPartHasDecayed) {
 // from its own state, and its multipliers (CVODE's monodromy) inside the
 // unit circle. With h = 0.1 rest is stable and stays the answer.
 TEST(Start, AConstantSolutionOfAParametricModelGivesWayToTheOrbitItsMotionSettlesOn) {
-  SolveSettings settings;
-  settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve
-  const PreparedSolve prepared = PrepareSolve(LoadModel("tests/pipeline/models/parametric-duffing.yaml"), settings);
-  SolveOptions options;
-  options.harmonic_balance = prepared.options;
-  options.validate = true;
-  options.stability = true;
-  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  const SolveSummary s = SolveAsTheCli(LoadModel("tests/pipeline/models/parametric-duffing.yaml"), true);
   ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
   EXPECT_NE(s.start_route.find("simulation"), std::string::npos) << s.start_route;
   EXPECT_NE(s.start_note.find("constant in time"), std::string::npos) << s.start_note;
@@ -278,10 +284,7 @@ TEST(Start, AConstantSolutionOfAParametricModelGivesWayToTheOrbitItsMotionSettle
   ASSERT_TRUE(s.stability && s.stability->floquet);
   for (const auto& mu : s.stability->floquet->multipliers) EXPECT_LT(std::abs(mu), 1 - 1e-3);
 
-  const PreparedSolve weak =
-      PrepareSolve(LoadModel("tests/pipeline/models/parametric-duffing.yaml", {{"h", 0.1}}), settings);
-  options.harmonic_balance = weak.options;
-  const SolveSummary rest = SolveModel(weak.model, weak.guess, options);
+  const SolveSummary rest = SolveAsTheCli(LoadModel("tests/pipeline/models/parametric-duffing.yaml", {{"h", 0.1}}), true);
   ASSERT_EQ(rest.status, SolveStatus::kConverged) << rest.FullReport();
   EXPECT_EQ(rest.start_route, "guess");
   EXPECT_LT(rest.solution().Amplitude(0), 1e-12);
@@ -296,16 +299,10 @@ TEST(Start, AConstantSolutionOfAParametricModelGivesWayToTheOrbitItsMotionSettle
 // from its own state. Such a file was refused (missing 'frequencies'); the
 // same equations moved to put the equilibrium at rest start next to it.
 TEST(Start, AnAutonomousFileWithNothingButItsEquationsFindsItsLimitCycle) {
-  SolveSettings settings;
-  settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve
   const Model model = LoadModel("tests/pipeline/models/fitzhugh-nagumo.yaml");
   EXPECT_NE(model.frequency_note.find("the trajectory from initial_state, period"), std::string::npos)
       << model.frequency_note;
-  const PreparedSolve prepared = PrepareSolve(model, settings);
-  SolveOptions options;
-  options.harmonic_balance = prepared.options;
-  options.validate = true;
-  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  const SolveSummary s = SolveAsTheCli(model);
   ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
   ASSERT_TRUE(s.validation && s.validation->report.ok);
   EXPECT_LT(s.validation->verdict.relative_error, 1e-8);
@@ -316,9 +313,7 @@ TEST(Start, AnAutonomousFileWithNothingButItsEquationsFindsItsLimitCycle) {
   // its equilibrium, and the trajectory starts 0.1 off it.
   const Model at_rest = LoadModel("tests/pipeline/models/vdp-duffing-bare.yaml");
   EXPECT_NE(at_rest.frequency_note.find("+ 0.1 (an equilibrium)"), std::string::npos) << at_rest.frequency_note;
-  const PreparedSolve bare = PrepareSolve(at_rest, settings);
-  options.harmonic_balance = bare.options;
-  const SolveSummary v = SolveModel(bare.model, bare.guess, options);
+  const SolveSummary v = SolveAsTheCli(at_rest);
   ASSERT_EQ(v.status, SolveStatus::kConverged) << v.FullReport();
   ASSERT_TRUE(v.validation && v.validation->report.ok);
   EXPECT_LT(v.validation->verdict.relative_error, 1e-8);
@@ -329,13 +324,7 @@ TEST(Start, AnAutonomousFileWithNothingButItsEquationsFindsItsLimitCycle) {
 }
 
 TEST(Start, AForcedTorusWithoutAGuessIsRecordedOnceItHasSettled) {
-  SolveSettings settings;
-  settings.default_tol = SolveSettings::kDefaultTolerance;  // as rmhb solve
-  const PreparedSolve prepared = PrepareSolve(LoadModel("tests/pipeline/models/two-tone-duffing.yaml"), settings);
-  SolveOptions options;
-  options.harmonic_balance = prepared.options;
-  options.validate = true;
-  const SolveSummary s = SolveModel(prepared.model, prepared.guess, options);
+  const SolveSummary s = SolveAsTheCli(LoadModel("tests/pipeline/models/two-tone-duffing.yaml"));
   ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
   EXPECT_EQ(s.start_route, "identification");
   EXPECT_EQ(s.solution().frequencies(), (std::vector<double>{1.3, 2.61}));
