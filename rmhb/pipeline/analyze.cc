@@ -416,7 +416,8 @@ void ReportIdentification(const AnalyzeSummary& s, Stages* out) {
            ? StringPrintf(" (%dx the rate asked: a line would fold back)", sampling.oversampling / sampling.thinning)
            : std::string()) +
       (sampling.resolved() ? std::string()
-                           : StringPrintf(" (NOT resolved: %.2g of the strongest line near Nyquist)", sampling.top_band)) +
+                           : StringPrintf(" (NOT resolved: %.2g of the strongest line near Nyquist > %.0e)", sampling.top_band,
+                                          kRecordLineThreshold)) +
       (s.trajectory->settle_periods > 0
            ? " after the motion settled (" + std::to_string(s.trajectory->settle_periods) + " periods)"
            : std::string()) +
