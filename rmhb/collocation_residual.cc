@@ -120,6 +120,14 @@ void CollocationResidual::SetUpLinearAlgebra() {
   };
   reduced_row_ = inverse(kept_residuals_, full_residuals_);
   reduced_column_ = inverse(kept_unknowns_, full_unknowns_);
+  row_targets_.assign(equations_.size(), std::vector<int>(C_, -1));
+  for (size_t i = 0; i < equations_.size(); ++i) {
+    const CompiledEquation& eq = equations_[i];
+    if (eq.first_row < 0) continue;
+    const int skip = eq.balance_constant ? 0 : 1;
+    for (int c = skip; c < C_; ++c) row_targets_[i][c] = reduced_row_[eq.first_row + c - skip];
+  }
+  column_target_.resize(C_);
   if (!kept_unknowns_.empty()) SetUpKeptHarmonics();
   tangent_samples_.assign(slots_.size(), Eigen::VectorXd(M_));
   // Which (equation, unknown variable) blocks are nonzero: a condensed
@@ -309,6 +317,20 @@ void CollocationResidual::AddToColumn(Eigen::MatrixXd* J, int column, int row, i
   const auto first = std::lower_bound(kept_residuals_.begin(), kept_residuals_.end(), row);
   for (auto it = first; it != kept_residuals_.end() && *it < row + count; ++it)
     (*J)(static_cast<int>(it - kept_residuals_.begin()), c) += factor * values[*it - row];
+}
+
+bool CollocationResidual::ColumnTargets(int j, SpectralTransform::Targets* targets) {
+  // A condensed variable's chain rule goes through AddVariableBlock: there
+  // the block's columns are scaled and added as vectors, and the same sums
+  // formed entry by entry round differently (fused multiply-adds). A
+  // conservative DAE's continuation (examples/models/softening-dae.yaml)
+  // then flagged a spurious branch point from multipliers 1e-9 off +1.
+  if (column_[j] < 0) return false;
+  const char* kept = column_harmonics_.empty() ? nullptr : column_harmonics_[j].data();
+  for (int c = 0; c < C_; ++c)
+    column_target_[c] = !kept || kept[(c + 1) / 2] ? reduced_column_[column_[j] + c] : -1;
+  targets->columns = column_target_.data();
+  return true;
 }
 
 void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
@@ -896,6 +918,34 @@ void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x,
   derivative_part->setFromTriplets(derivative.begin(), derivative.end());
 }
 
+// The general path of one slot's block: the C x C block E* diag(g') E (D)
+// formed, then added through AddVariableBlock (grids of several angles, a
+// condensed variable: ColumnTargets).
+void CollocationResidual::AddSlotThroughBlock(int i, int s, const double* rates, bool constant,
+                                              const Eigen::VectorXd& x, Eigen::MatrixXd* jacobian) {
+  const CompiledEquation& eq = equations_[i];
+  const int j = slots_[s].variable;
+  const int rows = C_ - (eq.balance_constant ? 0 : 1);
+  // AddVariableBlock reads the kept harmonics' columns only: those are
+  // all a reduced J needs cleared (a constant partial writes them all).
+  if (constant || column_harmonics_.empty()) {
+    block_.setZero(C_, C_);
+  } else {
+    block_.resize(C_, C_);
+    for (int c : column_coefficients_[j]) block_.col(c).setZero();
+  }
+  if (constant) {
+    transform_->AddConstantMultiplication(work_(0), rates, block_);  // a linear term
+  } else {
+    transform_->Analyze(work_.data());
+    // Only the entries the symmetry reduction keeps (METHOD.md s.13).
+    transform_->AddMultiplicationMatrix(1.0, rates, block_,
+                                        row_harmonics_.empty() ? nullptr : row_harmonics_[i].data(),
+                                        column_harmonics_.empty() ? nullptr : column_harmonics_[j].data());
+  }
+  AddVariableBlock(jacobian, eq.first_row, block_.bottomRows(rows), j, x);
+}
+
 bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                                        Eigen::MatrixXd* jacobian) {
   SampleSlots(x);
@@ -925,24 +975,19 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
       const int j = slots_[s].variable;
       const double* rates = slots_[s].derivative ? rates_.data() : nullptr;
       const bool constant = (work_.array() == work_(0)).all();
-      // AddVariableBlock reads the kept harmonics' columns only: those are
-      // all a reduced J needs cleared (a constant partial writes them all).
-      if (constant || column_harmonics_.empty()) {
-        block_.setZero(C_, C_);
+      SpectralTransform::Targets targets;
+      targets.rows = row_targets_[i].data();
+      if (transform_->num_angles() == 1 && ColumnTargets(j, &targets)) {
+        // Straight into the reduced J: no C x C block (METHOD.md s.13).
+        if (constant) {
+          transform_->AddConstantMultiplicationTo(work_(0), rates, targets, *jacobian);
+        } else {
+          transform_->Analyze(work_.data());
+          transform_->AddMultiplicationTo(rates, targets, *jacobian);
+        }
       } else {
-        block_.resize(C_, C_);
-        for (int c : column_coefficients_[j]) block_.col(c).setZero();
+        AddSlotThroughBlock(static_cast<int>(i), s, rates, constant, x, jacobian);
       }
-      if (constant) {
-        transform_->AddConstantMultiplication(work_(0), rates, block_);  // a linear term
-      } else {
-        transform_->Analyze(work_.data());
-        // Only the entries the symmetry reduction keeps (METHOD.md s.13).
-        transform_->AddMultiplicationMatrix(1.0, rates, block_,
-                                            row_harmonics_.empty() ? nullptr : row_harmonics_[i].data(),
-                                            column_harmonics_.empty() ? nullptr : column_harmonics_[j].data());
-      }
-      AddVariableBlock(jacobian, eq.first_row, block_.bottomRows(rows), j, x);
       if (slots_[s].derivative == 0) continue;
       // z' = sum_b w_b d z / d theta_b: a column per unknown frequency.
       for (int b = 0; b < basis_.num_bases(); ++b) {

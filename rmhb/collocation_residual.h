@@ -152,6 +152,12 @@ class CollocationResidual : public NonlinearProblem {
   // D(w) source (rates: the basis frequencies at w). False when nothing
   // depends on it (a defined variable's mean).
   bool ChainColumn(int j, int c, const std::vector<double>& rates, int* column, double* factor) const;
+  // Where variable j's coefficients land in the reduced J: its kept
+  // columns (SpectralTransform::Targets, rows left unset). False for a
+  // condensed variable: AddVariableBlock's chain rule then.
+  bool ColumnTargets(int j, SpectralTransform::Targets* targets);
+  void AddSlotThroughBlock(int i, int s, const double* rates, bool constant, const Eigen::VectorXd& x,
+                           Eigen::MatrixXd* jacobian);
   // Sparse J: block (block row i -> full residual row rows_of(i) or -1,
   // block column l -> coefficient first + l of variable j) into triplets,
   // through the chain rule, in the reduced indices.
@@ -234,6 +240,10 @@ class CollocationResidual : public NonlinearProblem {
   std::vector<Eigen::VectorXd> slot_samples_;
   Eigen::VectorXd work_, term_, proj_, coef_;
   Eigen::MatrixXd block_;  // C x C, sized on first use: Newton-Krylov never forms it
+  // Per equation: coefficient row -> row of the reduced J (-1: dropped);
+  // one variable's columns at a time (ColumnTargets).
+  std::vector<std::vector<int>> row_targets_;
+  std::vector<int> column_target_;
   std::vector<double> rates_;
   // Per pointwise equation: samples x (value, d/d(slot) per slot of eq.slots).
   std::vector<Eigen::MatrixXd> pointwise_values_;

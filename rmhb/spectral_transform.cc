@@ -169,12 +169,16 @@ void SpectralTransform::SetUpDense() {
     DenseTables tables;
     tables.synthesis.resize(M, 2 * K - 1);
     tables.synthesis.col(0).setOnes();
-    for (int k = 1; k < K; ++k)
-      for (long t = 0; t < M; ++t) {
-        const int j = Mod(long(grid_index_[k]) * t, static_cast<int>(M));
+    // The phase index g t mod M advanced by g per sample: a 64-bit division
+    // per entry was most of a first solve's table time (18 k entries at
+    // N = 55, M = 168; issue 14).
+    for (int k = 1; k < K; ++k) {
+      const long g = Mod(grid_index_[k], static_cast<int>(M));
+      for (long t = 0, j = 0; t < M; ++t, j = j + g < M ? j + g : j + g - M) {
         tables.synthesis(t, 2 * k - 1) = c(j);
         tables.synthesis(t, 2 * k) = s(j);
       }
+    }
     return tables;
   });
 }
@@ -210,12 +214,13 @@ void SpectralTransform::SetUpDenseSpectrum() {
     UnitCircle(M, &c, &s);
     tables.cos.resize(n, M);
     tables.sin.resize(n, M);
-    for (long t = 0; t < M; ++t)
-      for (long i = 0; i < n; ++i) {
-        const int j = Mod(tables.rows[i] * t, static_cast<int>(M));
+    for (long i = 0; i < n; ++i) {
+      const long g = tables.rows[i];  // in [0, M / 2]
+      for (long t = 0, j = 0; t < M; ++t, j = j + g < M ? j + g : j + g - M) {
         tables.cos(i, t) = c(j) / double(M);
         tables.sin(i, t) = -s(j) / double(M);
       }
+    }
     return tables;
   });
   basis_spectrum_.resize(num_coefficients());
@@ -534,6 +539,89 @@ void SpectralTransform::AddConstantMultiplication(double value, const double* ra
   for (int k = 1; k < basis_.size(); ++k) {
     out(2 * k - 1, 2 * k) += value * rate[k];
     out(2 * k, 2 * k - 1) -= value * rate[k];
+  }
+}
+
+namespace {
+
+// One entry of E* diag(p) E (D) at (row coefficient r, column coefficient c)
+// put where Targets says (SpectralTransform::AddMultiplicationTo).
+inline void PutEntry(const SpectralTransform::Targets& t, int r, int c, double value,
+                     Eigen::Ref<Eigen::MatrixXd>& out) {
+  if (t.rows[r] >= 0 && t.columns[c] >= 0) out(t.rows[r], t.columns[c]) += value;
+}
+
+}  // namespace
+
+void SpectralTransform::AddMultiplicationTo(const double* rate, const Targets& targets,
+                                            Eigen::Ref<Eigen::MatrixXd> out) const {
+  if (dims_ != 1) throw std::logic_error("SpectralTransform::AddMultiplicationTo: one grid angle only");
+  const int K = basis_.size();
+  // The spectrum at every difference and sum of two grid indices, gathered
+  // once (AddMultiplicationBlock).
+  int lowest = grid_index_[0], highest = grid_index_[0];
+  for (int k = 0; k < K; ++k) {
+    lowest = std::min(lowest, grid_index_[k]);
+    highest = std::max(highest, grid_index_[k]);
+  }
+  const int span = highest - lowest, low = 2 * lowest;
+  line_spectrum_.resize(2 * span + 1);
+  sum_spectrum_.resize(2 * span + 1);
+  for (int g = -span; g <= span; ++g) line_spectrum_[g + span] = SpectrumAt(&g);
+  for (int g = low; g <= low + 2 * span; ++g) sum_spectrum_[g - low] = SpectrumAt(&g);
+  // The row harmonics some target keeps: the inner loop runs over them only.
+  const int* rows = targets.rows;
+  active_rows_.clear();
+  for (int k = 0; k < K; ++k)
+    if (rows[k == 0 ? 0 : 2 * k - 1] >= 0 || (k > 0 && rows[2 * k] >= 0)) active_rows_.push_back(k);
+  for (int l = 0; l < K; ++l) {
+    const int cos_column = l == 0 ? 0 : 2 * l - 1, sin_column = 2 * l;
+    const bool use_cos = targets.columns[cos_column] >= 0, use_sin = l > 0 && targets.columns[sin_column] >= 0;
+    if (!use_cos && !use_sin) continue;
+    if (rate && (l == 0 || rate[l] == 0.0)) continue;  // D(rate) has no such column
+    const int gl = grid_index_[l];
+    for (int k : active_rows_) {
+      // Component of p times column l at harmonic k: (P[k-l] +- P[k+l]) / 2
+      // (AddMultiplicationBlock); rows a_0 = Re c, a_k = 2 Re c, b_k = -2 Im c.
+      const int gk = grid_index_[k];
+      const std::complex<double> pd = line_spectrum_[gk - gl + span];
+      double cos_re = pd.real(), cos_im = pd.imag(), sin_re = 0, sin_im = 0;
+      if (l > 0) {
+        const std::complex<double> ps = sum_spectrum_[gk + gl - low];
+        cos_re = 0.5 * (pd.real() + ps.real());
+        cos_im = 0.5 * (pd.imag() + ps.imag());
+        sin_re = 0.5 * (pd.imag() - ps.imag());  // -i/2 (P[k-l] - P[k+l])
+        sin_im = -0.5 * (pd.real() - ps.real());
+      }
+      auto put = [&](int column, double re, double im, double w) {
+        if (k == 0) {
+          PutEntry(targets, 0, column, w * re, out);
+        } else {
+          PutEntry(targets, 2 * k - 1, column, w * 2.0 * re, out);
+          PutEntry(targets, 2 * k, column, w * -2.0 * im, out);
+        }
+      };
+      if (!rate) {
+        if (use_cos) put(cos_column, cos_re, cos_im, 1.0);
+        if (use_sin) put(sin_column, sin_re, sin_im, 1.0);
+      } else {
+        // d/dt(a cos) = -rate a sin; d/dt(b sin) = rate b cos.
+        if (use_cos) put(cos_column, sin_re, sin_im, -rate[l]);
+        if (use_sin) put(sin_column, cos_re, cos_im, rate[l]);
+      }
+    }
+  }
+}
+
+void SpectralTransform::AddConstantMultiplicationTo(double value, const double* rate, const Targets& targets,
+                                                    Eigen::Ref<Eigen::MatrixXd> out) const {
+  if (!rate) {
+    for (int c = 0; c < num_coefficients(); ++c) PutEntry(targets, c, c, value, out);
+    return;
+  }
+  for (int k = 1; k < basis_.size(); ++k) {
+    PutEntry(targets, 2 * k - 1, 2 * k, value * rate[k], out);
+    PutEntry(targets, 2 * k, 2 * k - 1, -(value * rate[k]), out);
   }
 }
 

@@ -88,6 +88,24 @@ class SpectralTransform {
                               Eigen::Ref<Eigen::MatrixXd> out, const char* row_harmonics = nullptr,
                               const char* column_harmonics = nullptr) const;
 
+  // Where AddMultiplicationTo puts an entry (row coefficient r, column
+  // coefficient c) of E* diag(p) E (D): into out(rows[r], columns[c]); a
+  // row or column of -1 is dropped (a Jacobian's reduced rows and columns).
+  struct Targets {
+    const int* rows = nullptr;
+    const int* columns = nullptr;
+  };
+  // AddMultiplicationMatrix with scale 1, each entry put straight where
+  // `targets` says: no C x C block, and only the entries some target keeps
+  // are formed (a quarter under a half-wave symmetry with a time reversal).
+  // One grid angle only (num_angles() == 1).
+  void AddMultiplicationTo(const double* derivative_rates, const Targets& targets,
+                           Eigen::Ref<Eigen::MatrixXd> out) const;
+  // AddConstantMultiplication the same way.
+  void AddConstantMultiplicationTo(double value, const double* derivative_rates, const Targets& targets,
+                                   Eigen::Ref<Eigen::MatrixXd> out) const;
+  int num_angles() const { return dims_; }
+
   // out += scale * E* diag(p) E (D) for a constant p = value: value times
   // the identity (or D(rate)), since E* E = I on a grid where every harmonic
   // owns its frequency (the constructor's check). A linear term's partial is
@@ -132,6 +150,7 @@ class SpectralTransform {
   // One angle: P[g] at the differences g = -span..span and the sums g =
   // low..low + 2 span of the block being built.
   mutable std::vector<std::complex<double>> line_spectrum_, sum_spectrum_;
+  mutable std::vector<int> active_rows_;  // AddMultiplicationTo's row harmonics
   void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
   void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
   // Dense backend: E (M x C), E* (C x M, on first use), and the rows of the
