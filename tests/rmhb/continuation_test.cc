@@ -206,6 +206,9 @@ TEST(Continuation, RelativisticNaturalSweepMatchesTheEnergyQuadrature) {
   ASSERT_TRUE(s.completed()) << s.FullReport();
   EXPECT_GE(s.points.size(), 8u);
   EXPECT_EQ(s.points.back().parameter, 0.99);
+  // A conservative orbit: its second +1 multiplier wanders within 1e-6 of +1
+  // as a real pair or a complex one, which is no bifurcation.
+  EXPECT_TRUE(s.bifurcations.empty()) << s.FullReport();
   for (const ContinuationPoint& p : s.points) {
     const double beta = p.parameter;
     EXPECT_NEAR(p.solution.Amplitude(0), examples::RelativisticAmplitude(beta), RelativisticTolerance(beta))
