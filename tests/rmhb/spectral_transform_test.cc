@@ -283,5 +283,51 @@ TEST(SpectralTransform, ConstantMultiplicationIsTheScaledIdentity) {
   }
 }
 
+// The direct assembly puts each entry of E* diag(p) E (D) where the targets
+// say and nowhere else: against the full block, on a GCD grid (one angle, two
+// bases) and a periodic one, with a third of the rows and columns dropped and
+// the rest scattered into a larger matrix.
+TEST(SpectralTransform, DirectAssemblyPutsTheBlocksEntriesWhereTargetsSay) {
+  struct Case {
+    HarmonicBasis basis;
+    Sampling sampling;
+  };
+  for (const Case& c : {Case{HarmonicBasis::Periodic(7), Sampling::Uniform(31)},
+                        Case{HarmonicBasis::Diamond(2, 2), Sampling::Gcd(61, {3, 5})}}) {
+    SpectralTransform t(c.basis, c.sampling);
+    ASSERT_EQ(t.num_angles(), 1);
+    const int C = c.basis.num_coefficients();
+    const Eigen::VectorXd p = Random(static_cast<int>(t.num_samples()), 11);
+    std::vector<double> rate(c.basis.size());
+    for (int k = 0; k < c.basis.size(); ++k) rate[k] = 0.4 + 0.9 * k;
+    std::vector<int> rows(C), columns(C);
+    for (int i = 0; i < C; ++i) {
+      rows[i] = i % 3 == 1 ? -1 : 2 * C - 1 - i;  // reversed, into rows C .. 2C - 1
+      columns[i] = i % 3 == 2 ? -1 : i + 3;
+    }
+    SpectralTransform::Targets targets;
+    targets.rows = rows.data();
+    targets.columns = columns.data();
+    t.Analyze(p.data());
+    for (const double* r : {static_cast<const double*>(nullptr), static_cast<const double*>(rate.data())})
+      for (bool constant : {false, true}) {
+        Eigen::MatrixXd block = Eigen::MatrixXd::Zero(C, C);
+        Eigen::MatrixXd direct = Eigen::MatrixXd::Constant(2 * C, C + 3, 0.25), expected = direct;
+        if (constant) {
+          t.AddConstantMultiplication(-1.3, r, block);
+          t.AddConstantMultiplicationTo(-1.3, r, targets, direct);
+        } else {
+          t.AddMultiplicationMatrix(1.0, r, block);
+          t.AddMultiplicationTo(r, targets, direct);
+        }
+        for (int i = 0; i < C; ++i)
+          for (int j = 0; j < C; ++j)
+            if (rows[i] >= 0 && columns[j] >= 0) expected(rows[i], columns[j]) += block(i, j);
+        // To rounding: each entry is added to 0.25 once, fused or not.
+        EXPECT_LT((direct - expected).cwiseAbs().maxCoeff(), 1e-14) << c.sampling.description;
+      }
+  }
+}
+
 }  // namespace
 }  // namespace rmhb
