@@ -450,6 +450,77 @@ void SpectralTransform::Analyze(const double* samples) {
   for (long i = 0; i < half_total_; ++i) analysed_[i] = spectrum_[i] * inv;
 }
 
+void SpectralTransform::GatherLineSpectrum(int first, int last) const {
+  // One angle: the spectrum at every grid index k +- l can reach, gathered
+  // once (the general lookup reduces indices modulo the grid per entry,
+  // which was 60 % of a Jacobian at N = 55). Only the indices harmonics
+  // [first, last) reach: differences within +-(max - min) of their grid
+  // indices, sums within 2 min .. 2 max (a diagonal block of a high harmonic
+  // needs a handful, not the whole line: the coarsened Jacobians of
+  // METHOD.md s.17 ask for thousands of them).
+  int lowest = grid_index_[first], highest = grid_index_[first];
+  for (int k = first; k < last; ++k) {
+    lowest = std::min(lowest, grid_index_[k]);
+    highest = std::max(highest, grid_index_[k]);
+  }
+  line_span_ = highest - lowest;
+  line_low_ = 2 * lowest;
+  line_spectrum_.resize(2 * line_span_ + 1);
+  sum_spectrum_.resize(2 * line_span_ + 1);
+  for (int g = -line_span_; g <= line_span_; ++g) line_spectrum_[g + line_span_] = SpectrumAt(&g);
+  for (int g = line_low_; g <= line_low_ + 2 * line_span_; ++g) sum_spectrum_[g - line_low_] = SpectrumAt(&g);
+}
+
+SpectralTransform::ProductPair SpectralTransform::ProductAt(int k, int l) const {
+  std::complex<double> pd, ps;
+  if (dims_ == 1) {
+    const int gk = grid_index_[k], gl = grid_index_[l];
+    pd = line_spectrum_[gk - gl + line_span_];
+    if (l > 0) ps = sum_spectrum_[gk + gl - line_low_];
+  } else {
+    int sum[3], diff[3];
+    for (int d = 0; d < dims_; ++d) {
+      sum[d] = grid_index_[k * dims_ + d] + grid_index_[l * dims_ + d];
+      diff[d] = grid_index_[k * dims_ + d] - grid_index_[l * dims_ + d];
+    }
+    pd = SpectrumAt(diff);
+    if (l > 0) ps = SpectrumAt(sum);
+  }
+  if (l == 0) return {pd, {}};
+  // -i/2 (P[k-l] - P[k+l]) written out: no complex product's NaN checks.
+  return {0.5 * (pd + ps), {0.5 * (pd.imag() - ps.imag()), -0.5 * (pd.real() - ps.real())}};
+}
+
+namespace {
+
+// The entries of scale * E* diag(p) E (D) that harmonic l's columns give in
+// harmonic k's rows, each handed to put(row coefficient, column coefficient,
+// value): rows a_0 = Re c, a_k = 2 Re c, b_k = -2 Im c of the component c
+// (SpectralTransform::ProductAt: c_cos, c_sin); columns l's cos and sin, or under D(rate)
+// d/dt(a cos) = -rate a sin, d/dt(b sin) = rate b cos.
+template <class Put>
+inline void PutProduct(int k, int l, std::complex<double> c_cos, std::complex<double> c_sin, double scale,
+                       const double* rate, Put&& put) {
+  auto rows = [&](int column, std::complex<double> v, double w) {
+    if (w == 0.0) return;
+    if (k == 0) {
+      put(0, column, w * v.real());
+    } else {
+      put(2 * k - 1, column, w * 2.0 * v.real());
+      put(2 * k, column, w * -2.0 * v.imag());
+    }
+  };
+  if (!rate) {
+    rows(l == 0 ? 0 : 2 * l - 1, c_cos, scale);
+    if (l > 0) rows(2 * l, c_sin, scale);
+  } else if (l > 0) {
+    rows(2 * l - 1, c_sin, -scale * rate[l]);
+    rows(2 * l, c_cos, scale * rate[l]);
+  }
+}
+
+}  // namespace
+
 void SpectralTransform::AddMultiplicationMatrix(double scale, const double* rate,
                                                 Eigen::Ref<Eigen::MatrixXd> out,
                                                 const char* row_harmonics,
@@ -461,71 +532,17 @@ void SpectralTransform::AddMultiplicationBlock(double scale, const double* rate,
                                                int last, Eigen::Ref<Eigen::MatrixXd> out,
                                                const char* row_harmonics,
                                                const char* column_harmonics) const {
-  int sum[3], diff[3];
-  // One angle: the spectrum at every grid index k +- l can reach, gathered
-  // once (the general lookup reduces indices modulo the grid per entry,
-  // which was 60 % of a Jacobian at N = 55).
-  // Only the indices this block reaches: differences within +-(max - min)
-  // of its grid indices, sums within 2 min .. 2 max (a diagonal block of a
-  // high harmonic needs a handful, not the whole line: the coarsened
-  // Jacobians of METHOD.md s.17 ask for thousands of them).
-  const bool line = dims_ == 1;
-  int span = 0, low = 0;
-  if (line) {
-    int lowest = grid_index_[first], highest = grid_index_[first];
-    for (int k = first; k < last; ++k) {
-      lowest = std::min(lowest, grid_index_[k]);
-      highest = std::max(highest, grid_index_[k]);
-    }
-    span = highest - lowest;
-    low = 2 * lowest;
-    line_spectrum_.resize(2 * span + 1);
-    sum_spectrum_.resize(2 * span + 1);
-    for (int g = -span; g <= span; ++g) line_spectrum_[g + span] = SpectrumAt(&g);
-    for (int g = low; g <= low + 2 * span; ++g) sum_spectrum_[g - low] = SpectrumAt(&g);
-  }
+  if (dims_ == 1) GatherLineSpectrum(first, last);
   // Coefficient positions in `out`: harmonic k's cos at 2k - 1 - offset.
   const int offset = first == 0 ? 0 : 2 * first - 1;
-  // Column l of E*diag(p)E: product of p with cos/sin of harmonic l, whose
-  // component at harmonic k is c = (P[k-l] +- P[k+l]) / 2 (or /2i).
+  auto put = [&](int row, int column, double value) { out(row - offset, column - offset) += value; };
   for (int l = first; l < last; ++l) {
     if (column_harmonics && !column_harmonics[l]) continue;
-    const int* gl = &grid_index_[l * dims_];
-    for (int k = first; k < last; ++k) {
-      if (row_harmonics && !row_harmonics[k]) continue;
-      const int* gk = &grid_index_[k * dims_];
-      for (int d = 0; d < dims_; ++d) {
-        sum[d] = gk[d] + gl[d];
-        diff[d] = gk[d] - gl[d];
+    for (int k = first; k < last; ++k)
+      if (!row_harmonics || row_harmonics[k]) {
+        const ProductPair c = ProductAt(k, l);
+        PutProduct(k, l, c.cos, c.sin, scale, rate, put);
       }
-      const std::complex<double> pd = line ? line_spectrum_[diff[0] + span] : SpectrumAt(diff);
-      std::complex<double> ccos, csin;
-      if (l == 0) {
-        ccos = pd;
-      } else {
-        const std::complex<double> ps = line ? sum_spectrum_[sum[0] - low] : SpectrumAt(sum);
-        ccos = 0.5 * (pd + ps);
-        csin = std::complex<double>(0, -0.5) * (pd - ps);
-      }
-      // Rows: a_0 = Re c; a_k = 2 Re c, b_k = -2 Im c.
-      auto put = [&](int col, std::complex<double> c, double w) {
-        if (w == 0.0) return;
-        if (k == 0) {
-          out(0, col) += w * c.real();
-        } else {
-          out(2 * k - 1 - offset, col) += w * 2.0 * c.real();
-          out(2 * k - offset, col) += w * -2.0 * c.imag();
-        }
-      };
-      if (!rate) {
-        put(l == 0 ? 0 : 2 * l - 1 - offset, ccos, scale);
-        if (l > 0) put(2 * l - offset, csin, scale);
-      } else if (l > 0) {
-        // d/dt(a cos) = -rate a sin; d/dt(b sin) = rate b cos.
-        put(2 * l - 1 - offset, csin, -scale * rate[l]);
-        put(2 * l - offset, ccos, scale * rate[l]);
-      }
-    }
   }
 }
 
@@ -542,86 +559,42 @@ void SpectralTransform::AddConstantMultiplication(double value, const double* ra
   }
 }
 
-namespace {
-
-// One entry of E* diag(p) E (D) at (row coefficient r, column coefficient c)
-// put where Targets says (SpectralTransform::AddMultiplicationTo).
-inline void PutEntry(const SpectralTransform::Targets& t, int r, int c, double value,
-                     Eigen::Ref<Eigen::MatrixXd>& out) {
-  if (t.rows[r] >= 0 && t.columns[c] >= 0) out(t.rows[r], t.columns[c]) += value;
-}
-
-}  // namespace
-
 void SpectralTransform::AddMultiplicationTo(const double* rate, const Targets& targets,
                                             Eigen::Ref<Eigen::MatrixXd> out) const {
   if (dims_ != 1) throw std::logic_error("SpectralTransform::AddMultiplicationTo: one grid angle only");
   const int K = basis_.size();
-  // The spectrum at every difference and sum of two grid indices, gathered
-  // once (AddMultiplicationBlock).
-  int lowest = grid_index_[0], highest = grid_index_[0];
-  for (int k = 0; k < K; ++k) {
-    lowest = std::min(lowest, grid_index_[k]);
-    highest = std::max(highest, grid_index_[k]);
-  }
-  const int span = highest - lowest, low = 2 * lowest;
-  line_spectrum_.resize(2 * span + 1);
-  sum_spectrum_.resize(2 * span + 1);
-  for (int g = -span; g <= span; ++g) line_spectrum_[g + span] = SpectrumAt(&g);
-  for (int g = low; g <= low + 2 * span; ++g) sum_spectrum_[g - low] = SpectrumAt(&g);
+  GatherLineSpectrum(0, K);
   // The row harmonics some target keeps: the inner loop runs over them only.
   const int* rows = targets.rows;
   active_rows_.clear();
   for (int k = 0; k < K; ++k)
     if (rows[k == 0 ? 0 : 2 * k - 1] >= 0 || (k > 0 && rows[2 * k] >= 0)) active_rows_.push_back(k);
+  auto put = [&](int row, int column, double value) {
+    if (rows[row] >= 0 && targets.columns[column] >= 0) out(rows[row], targets.columns[column]) += value;
+  };
   for (int l = 0; l < K; ++l) {
-    const int cos_column = l == 0 ? 0 : 2 * l - 1, sin_column = 2 * l;
-    const bool use_cos = targets.columns[cos_column] >= 0, use_sin = l > 0 && targets.columns[sin_column] >= 0;
+    const bool use_cos = targets.columns[l == 0 ? 0 : 2 * l - 1] >= 0, use_sin = l > 0 && targets.columns[2 * l] >= 0;
     if (!use_cos && !use_sin) continue;
     if (rate && (l == 0 || rate[l] == 0.0)) continue;  // D(rate) has no such column
-    const int gl = grid_index_[l];
     for (int k : active_rows_) {
-      // Component of p times column l at harmonic k: (P[k-l] +- P[k+l]) / 2
-      // (AddMultiplicationBlock); rows a_0 = Re c, a_k = 2 Re c, b_k = -2 Im c.
-      const int gk = grid_index_[k];
-      const std::complex<double> pd = line_spectrum_[gk - gl + span];
-      double cos_re = pd.real(), cos_im = pd.imag(), sin_re = 0, sin_im = 0;
-      if (l > 0) {
-        const std::complex<double> ps = sum_spectrum_[gk + gl - low];
-        cos_re = 0.5 * (pd.real() + ps.real());
-        cos_im = 0.5 * (pd.imag() + ps.imag());
-        sin_re = 0.5 * (pd.imag() - ps.imag());  // -i/2 (P[k-l] - P[k+l])
-        sin_im = -0.5 * (pd.real() - ps.real());
-      }
-      auto put = [&](int column, double re, double im, double w) {
-        if (k == 0) {
-          PutEntry(targets, 0, column, w * re, out);
-        } else {
-          PutEntry(targets, 2 * k - 1, column, w * 2.0 * re, out);
-          PutEntry(targets, 2 * k, column, w * -2.0 * im, out);
-        }
-      };
-      if (!rate) {
-        if (use_cos) put(cos_column, cos_re, cos_im, 1.0);
-        if (use_sin) put(sin_column, sin_re, sin_im, 1.0);
-      } else {
-        // d/dt(a cos) = -rate a sin; d/dt(b sin) = rate b cos.
-        if (use_cos) put(cos_column, sin_re, sin_im, -rate[l]);
-        if (use_sin) put(sin_column, cos_re, cos_im, rate[l]);
-      }
+      const ProductPair c = ProductAt(k, l);
+      PutProduct(k, l, c.cos, c.sin, 1.0, rate, put);
     }
   }
 }
 
 void SpectralTransform::AddConstantMultiplicationTo(double value, const double* rate, const Targets& targets,
                                                     Eigen::Ref<Eigen::MatrixXd> out) const {
+  auto put = [&](int row, int column, double value) {
+    if (targets.rows[row] >= 0 && targets.columns[column] >= 0) out(targets.rows[row], targets.columns[column]) += value;
+  };
   if (!rate) {
-    for (int c = 0; c < num_coefficients(); ++c) PutEntry(targets, c, c, value, out);
+    for (int c = 0; c < num_coefficients(); ++c) put(c, c, value);
     return;
   }
   for (int k = 1; k < basis_.size(); ++k) {
-    PutEntry(targets, 2 * k - 1, 2 * k, value * rate[k], out);
-    PutEntry(targets, 2 * k, 2 * k - 1, -(value * rate[k]), out);
+    put(2 * k - 1, 2 * k, value * rate[k]);
+    put(2 * k, 2 * k - 1, -(value * rate[k]));
   }
 }
 

@@ -121,6 +121,17 @@ class SpectralTransform {
 
  private:
   std::complex<double> SpectrumAt(const int* grid_index) const;
+  // One angle: P at the differences and sums of harmonics [first, last)'s
+  // grid indices, into line_spectrum_ and sum_spectrum_.
+  void GatherLineSpectrum(int first, int last) const;
+  // Harmonic l's cos and sin columns of E* diag(p) E, their components at
+  // harmonic k: (P[k-l] + P[k+l]) / 2 and -i (P[k-l] - P[k+l]) / 2 (P[k]
+  // and 0 for the constant). One angle: after GatherLineSpectrum.
+  struct ProductPair {
+    std::complex<double> cos, sin;
+  };
+
+  ProductPair ProductAt(int k, int l) const;
   long HalfIndex(const int* reduced) const;
   void SetUpDense();
   void SetUpDenseSpectrum();  // on the first Analyze: residual-only users skip it
@@ -148,8 +159,9 @@ class SpectralTransform {
   std::complex<double>* spectrum_ = nullptr;
   std::vector<std::complex<double>> analysed_;
   // One angle: P[g] at the differences g = -span..span and the sums g =
-  // low..low + 2 span of the block being built.
+  // low..low + 2 span of the block being built (GatherLineSpectrum).
   mutable std::vector<std::complex<double>> line_spectrum_, sum_spectrum_;
+  mutable int line_span_ = 0, line_low_ = 0;
   mutable std::vector<int> active_rows_;  // AddMultiplicationTo's row harmonics
   void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
   void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
