@@ -319,18 +319,74 @@ void CollocationResidual::AddToColumn(Eigen::MatrixXd* J, int column, int row, i
     (*J)(static_cast<int>(it - kept_residuals_.begin()), c) += factor * values[*it - row];
 }
 
-bool CollocationResidual::ColumnTargets(int j, SpectralTransform::Targets* targets) {
-  // A condensed variable's chain rule goes through AddVariableBlock: there
-  // the block's columns are scaled and added as vectors, and the same sums
-  // formed entry by entry round differently (fused multiply-adds). A
-  // conservative DAE's continuation (examples/models/softening-dae.yaml)
-  // then flagged a spurious branch point from multipliers 1e-9 off +1.
-  if (column_[j] < 0) return false;
+void CollocationResidual::ColumnTargets(int j, SpectralTransform::Targets* targets) {
   const char* kept = column_harmonics_.empty() ? nullptr : column_harmonics_[j].data();
+  const int first = column_[j] >= 0 ? column_[j] : column_[definitions_[j].source];
   for (int c = 0; c < C_; ++c)
-    column_target_[c] = !kept || kept[(c + 1) / 2] ? reduced_column_[column_[j] + c] : -1;
+    column_target_[c] = !kept || kept[(c + 1) / 2] ? reduced_column_[first + c] : -1;
   targets->columns = column_target_.data();
+}
+
+bool CollocationResidual::AddSlotDirectly(size_t i, int s, bool constant, const Eigen::VectorXd& x,
+                                          Eigen::MatrixXd* jacobian) {
+  const int j = slots_[s].variable, derivative = slots_[s].derivative;
+  const bool condensed = column_[j] < 0;
+  if (transform_->num_angles() != 1 || derivative > 1 || (condensed && derivative && !constant)) return false;
+  SpectralTransform::Targets targets;
+  targets.rows = row_targets_[i].data();
+  ColumnTargets(j, &targets);
+  const double* rates = derivative ? rates_.data() : nullptr;
+  if (condensed && derivative) {
+    // v' = ratio D(w)^2 A: -ratio rate_k^2 on harmonic k's cos and sin alike.
+    const double ratio = definitions_[j].ratio;
+    for (int k = 1; k < basis_.size(); ++k)
+      for (int c : {2 * k - 1, 2 * k})
+        if (targets.rows[c] >= 0 && targets.columns[c] >= 0)
+          (*jacobian)(targets.rows[c], targets.columns[c]) -= work_(0) * ratio * rates_[k] * rates_[k];
+  } else {
+    if (condensed) {
+      // v's cos_k column lands on A's sin_k with ratio rate_k, its sin_k on
+      // A's cos_k with -ratio rate_k, its mean nowhere (ChainColumn): the
+      // derivative-style columns of E* diag(g') E D(ratio rates).
+      chain_rates_.resize(basis_.size());
+      for (int k = 0; k < basis_.size(); ++k) chain_rates_[k] = definitions_[j].ratio * rates_[k];
+      rates = chain_rates_.data();
+    }
+    if (constant) {
+      transform_->AddConstantMultiplicationTo(work_(0), rates, targets, *jacobian);
+    } else {
+      transform_->Analyze(work_.data());
+      transform_->AddMultiplicationTo(rates, targets, *jacobian);
+    }
+  }
+  if (condensed) AddDefinitionFrequencyColumns(i, j, derivative, x, jacobian);
   return true;
+}
+
+void CollocationResidual::AddDefinitionFrequencyColumns(size_t i, int j, int derivative, const Eigen::VectorXd& x,
+                                                        Eigen::MatrixXd* jacobian) {
+  const CompiledEquation& eq = equations_[i];
+  const int rows = C_ - (eq.balance_constant ? 0 : 1);
+  const Definition& d = definitions_[j];
+  const double* A = x.data() + d.source * C_;
+  for (int b = 0; b < basis_.num_bases(); ++b) {
+    if (unknown_index_[b] < 0) continue;
+    coef_(0) = 0;
+    for (int k = 1; k < basis_.size(); ++k) {
+      const double m = d.ratio * basis_.harmonic(k)[b];
+      coef_(2 * k - 1) = m * A[2 * k];
+      coef_(2 * k) = -m * A[2 * k - 1];
+      if (derivative) {  // and D(rates) of it: cos_k <- rate_k sin_k, sin_k <- -rate_k cos_k
+        const double cos_k = coef_(2 * k - 1);
+        coef_(2 * k - 1) = rates_[k] * coef_(2 * k);
+        coef_(2 * k) = -rates_[k] * cos_k;
+      }
+    }
+    SynthesizeVariable(j, coef_.data(), term_.data());
+    term_.array() *= work_.array();
+    ProjectEquation(i, term_.data());
+    AddToColumn(jacobian, FrequencyColumn(b), eq.first_row, rows, 1.0, proj_.data() + (C_ - rows));
+  }
 }
 
 void CollocationResidual::AddVariableBlock(Eigen::MatrixXd* J, int row,
@@ -919,8 +975,8 @@ void CollocationResidual::LinearizationParts(const Eigen::VectorXd& x,
 }
 
 // The general path of one slot's block: the C x C block E* diag(g') E (D)
-// formed, then added through AddVariableBlock (grids of several angles, a
-// condensed variable: ColumnTargets).
+// formed, then added through AddVariableBlock (where AddSlotDirectly
+// cannot).
 void CollocationResidual::AddSlotThroughBlock(int i, int s, const double* rates, bool constant,
                                               const Eigen::VectorXd& x, Eigen::MatrixXd* jacobian) {
   const CompiledEquation& eq = equations_[i];
@@ -975,19 +1031,8 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
       const int j = slots_[s].variable;
       const double* rates = slots_[s].derivative ? rates_.data() : nullptr;
       const bool constant = (work_.array() == work_(0)).all();
-      SpectralTransform::Targets targets;
-      targets.rows = row_targets_[i].data();
-      if (transform_->num_angles() == 1 && ColumnTargets(j, &targets)) {
-        // Straight into the reduced J: no C x C block (METHOD.md s.13).
-        if (constant) {
-          transform_->AddConstantMultiplicationTo(work_(0), rates, targets, *jacobian);
-        } else {
-          transform_->Analyze(work_.data());
-          transform_->AddMultiplicationTo(rates, targets, *jacobian);
-        }
-      } else {
+      if (!AddSlotDirectly(i, s, constant, x, jacobian))
         AddSlotThroughBlock(static_cast<int>(i), s, rates, constant, x, jacobian);
-      }
       if (slots_[s].derivative == 0) continue;
       // z' = sum_b w_b d z / d theta_b: a column per unknown frequency.
       for (int b = 0; b < basis_.num_bases(); ++b) {

@@ -152,10 +152,22 @@ class CollocationResidual : public NonlinearProblem {
   // D(w) source (rates: the basis frequencies at w). False when nothing
   // depends on it (a defined variable's mean).
   bool ChainColumn(int j, int c, const std::vector<double>& rates, int* column, double* factor) const;
-  // Where variable j's coefficients land in the reduced J: its kept
-  // columns (SpectralTransform::Targets, rows left unset). False for a
-  // condensed variable: AddVariableBlock's chain rule then.
-  bool ColumnTargets(int j, SpectralTransform::Targets* targets);
+  // Where the partial of a slot of variable j lands in the reduced J: its
+  // kept columns (SpectralTransform::Targets, rows left unset), or for a
+  // condensed variable v = ratio D(w) A its source A's (ChainColumn).
+  void ColumnTargets(int j, SpectralTransform::Targets* targets);
+  // A slot's partial (samples in work_) of equation i straight into the
+  // reduced J (METHOD.md s.13): false where only the C x C block serves
+  // (several grid angles; a condensed variable's derivative under a partial
+  // that is not constant).
+  bool AddSlotDirectly(size_t i, int s, bool constant, const Eigen::VectorXd& x, Eigen::MatrixXd* jacobian);
+  // A condensed variable's definition depends on the unknown frequencies:
+  // d v / d w_b = ratio D_b A (and D(rates) of it for the slot v'), through
+  // equation i's partial in work_, into the frequency columns
+  // (AddVariableBlock's, by one synthesis and projection instead of the
+  // C x C block's columns).
+  void AddDefinitionFrequencyColumns(size_t i, int j, int derivative, const Eigen::VectorXd& x,
+                                     Eigen::MatrixXd* jacobian);
   void AddSlotThroughBlock(int i, int s, const double* rates, bool constant, const Eigen::VectorXd& x,
                            Eigen::MatrixXd* jacobian);
   // Sparse J: block (block row i -> full residual row rows_of(i) or -1,
@@ -245,6 +257,7 @@ class CollocationResidual : public NonlinearProblem {
   std::vector<std::vector<int>> row_targets_;
   std::vector<int> column_target_;
   std::vector<double> rates_;
+  std::vector<double> chain_rates_;  // ratio * rates_ of a condensed variable (ColumnTargets)
   // Per pointwise equation: samples x (value, d/d(slot) per slot of eq.slots).
   std::vector<Eigen::MatrixXd> pointwise_values_;
   std::vector<double> pointwise_in_, pointwise_out_;

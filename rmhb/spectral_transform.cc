@@ -471,7 +471,8 @@ void SpectralTransform::GatherLineSpectrum(int first, int last) const {
   for (int g = line_low_; g <= line_low_ + 2 * line_span_; ++g) sum_spectrum_[g - line_low_] = SpectrumAt(&g);
 }
 
-SpectralTransform::ProductPair SpectralTransform::ProductAt(int k, int l) const {
+// Inline: called once per entry pair of every Jacobian block.
+inline SpectralTransform::ProductPair SpectralTransform::ProductAt(int k, int l) const {
   std::complex<double> pd, ps;
   if (dims_ == 1) {
     const int gk = grid_index_[k], gl = grid_index_[l];
