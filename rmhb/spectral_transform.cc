@@ -497,8 +497,8 @@ namespace {
 // The entries of scale * E* diag(p) E (D) that harmonic l's columns give in
 // harmonic k's rows, each handed to put(row coefficient, column coefficient,
 // value): rows a_0 = Re c, a_k = 2 Re c, b_k = -2 Im c of the component c
-// (SpectralTransform::ProductAt: c_cos, c_sin); columns l's cos and sin, or under D(rate)
-// d/dt(a cos) = -rate a sin, d/dt(b sin) = rate b cos.
+// (c_cos, c_sin: SpectralTransform::ProductAt); columns l's cos and sin, or
+// under D(rate) d/dt(a cos) = -rate a sin, d/dt(b sin) = rate b cos.
 template <class Put>
 inline void PutProduct(int k, int l, std::complex<double> c_cos, std::complex<double> c_sin, double scale,
                        const double* rate, Put&& put) {
@@ -586,8 +586,8 @@ void SpectralTransform::AddMultiplicationTo(const double* rate, const Targets& t
 
 void SpectralTransform::AddConstantMultiplicationTo(double value, const double* rate, const Targets& targets,
                                                     Eigen::Ref<Eigen::MatrixXd> out) const {
-  auto put = [&](int row, int column, double value) {
-    if (targets.rows[row] >= 0 && targets.columns[column] >= 0) out(targets.rows[row], targets.columns[column]) += value;
+  auto put = [&](int row, int column, double entry) {
+    if (targets.rows[row] >= 0 && targets.columns[column] >= 0) out(targets.rows[row], targets.columns[column]) += entry;
   };
   if (!rate) {
     for (int c = 0; c < num_coefficients(); ++c) put(c, c, value);

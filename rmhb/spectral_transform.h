@@ -126,7 +126,8 @@ class SpectralTransform {
   void GatherLineSpectrum(int first, int last) const;
   // Harmonic l's cos and sin columns of E* diag(p) E, their components at
   // harmonic k: (P[k-l] + P[k+l]) / 2 and -i (P[k-l] - P[k+l]) / 2 (P[k]
-  // and 0 for the constant). One angle: after GatherLineSpectrum.
+  // and 0 for the constant). On one angle it reads what GatherLineSpectrum
+  // gathered for a range holding k and l; on several, the spectrum itself.
   struct ProductPair {
     std::complex<double> cos, sin;
   };
