@@ -11,7 +11,7 @@ packages=(build-essential cmake pkg-config libeigen3-dev libfftw3-dev libnlopt-c
           libsundials-dev libginac-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
           libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox libopenblas-dev ccache
           libhdf5-dev libopenmpi-dev openmpi-bin libsuitesparse-dev libspectra-dev
-          pybind11-dev python3-dev python3-numpy python3-pytest)
+          pybind11-dev python3-dev python3-numpy python3-pytest ninja-build)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -28,8 +28,13 @@ build_dir=${BUILD_DIR:-build}
 # only what changed.
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+# Ninja for a new build directory: it compiles a target's sources while the
+# libraries it links are still being built (Make waits for them), which keeps
+# both cores of a small machine busy. An existing directory keeps its generator.
+generator=()
+[ -f "$build_dir/CMakeCache.txt" ] || generator=(-G Ninja)
 # shellcheck disable=SC2086
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" ${CMAKE_ARGS:-}
+cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" ${CMAKE_ARGS:-}
 cmake --build "$build_dir" -j "$(nproc)"
 
 if [ "${1:-}" != "--no-demo" ]; then
