@@ -359,21 +359,22 @@ bool CollocationResidual::AddSlotDirectly(size_t i, int s, bool constant, const 
       transform_->AddMultiplicationTo(rates, targets, *jacobian);
     }
   }
-  if (condensed) AddDefinitionFrequencyColumns(i, j, derivative, x, jacobian);
+  if (condensed) {
+    const Definition& d = definitions_[j];
+    AddFrequencyColumns(i, j, x.data() + d.source * C_, d.ratio, derivative != 0, jacobian);
+  }
   return true;
 }
 
-void CollocationResidual::AddDefinitionFrequencyColumns(size_t i, int j, int derivative, const Eigen::VectorXd& x,
-                                                        Eigen::MatrixXd* jacobian) {
+void CollocationResidual::AddFrequencyColumns(size_t i, int j, const double* A, double ratio, bool derivative,
+                                              Eigen::MatrixXd* jacobian) {
   const CompiledEquation& eq = equations_[i];
   const int rows = C_ - (eq.balance_constant ? 0 : 1);
-  const Definition& d = definitions_[j];
-  const double* A = x.data() + d.source * C_;
   for (int b = 0; b < basis_.num_bases(); ++b) {
     if (unknown_index_[b] < 0) continue;
     coef_(0) = 0;
     for (int k = 1; k < basis_.size(); ++k) {
-      const double m = d.ratio * basis_.harmonic(k)[b];
+      const double m = ratio * basis_.harmonic(k)[b];
       coef_(2 * k - 1) = m * A[2 * k];
       coef_(2 * k) = -m * A[2 * k - 1];
       if (derivative) {  // and D(rates) of it: cos_k <- rate_k sin_k, sin_k <- -rate_k cos_k
@@ -1033,22 +1034,8 @@ bool CollocationResidual::EvaluateFull(const Eigen::VectorXd& x, Eigen::VectorXd
       const bool constant = (work_.array() == work_(0)).all();
       if (!AddSlotDirectly(i, s, constant, x, jacobian))
         AddSlotThroughBlock(static_cast<int>(i), s, rates, constant, x, jacobian);
-      if (slots_[s].derivative == 0) continue;
       // z' = sum_b w_b d z / d theta_b: a column per unknown frequency.
-      for (int b = 0; b < basis_.num_bases(); ++b) {
-        if (unknown_index_[b] < 0) continue;
-        const double* X = x.data() + j * C_;
-        coef_(0) = 0;
-        for (int k = 1; k < basis_.size(); ++k) {
-          const double rate = basis_.harmonic(k)[b];
-          coef_(2 * k - 1) = rate * X[2 * k];
-          coef_(2 * k) = -rate * X[2 * k - 1];
-        }
-        SynthesizeVariable(j, coef_.data(), term_.data());
-        term_.array() *= work_.array();
-        ProjectEquation(i, term_.data());
-        AddToColumn(jacobian, FrequencyColumn(b), eq.first_row, rows, 1.0, proj_.data() + (C_ - rows));
-      }
+      if (slots_[s].derivative) AddFrequencyColumns(i, j, x.data() + j * C_, 1.0, false, jacobian);
     }
   }
 

@@ -161,13 +161,13 @@ class CollocationResidual : public NonlinearProblem {
   // (several grid angles; a condensed variable's derivative under a partial
   // that is not constant).
   bool AddSlotDirectly(size_t i, int s, bool constant, const Eigen::VectorXd& x, Eigen::MatrixXd* jacobian);
-  // A condensed variable's definition depends on the unknown frequencies:
-  // d v / d w_b = ratio D_b A (and D(rates) of it for the slot v'), through
-  // equation i's partial in work_, into the frequency columns
-  // (AddVariableBlock's, by one synthesis and projection instead of the
-  // C x C block's columns).
-  void AddDefinitionFrequencyColumns(size_t i, int j, int derivative, const Eigen::VectorXd& x,
-                                     Eigen::MatrixXd* jacobian);
+  // Slot (i, variable j)'s frequency columns: d/dw_b of ratio D(w) A (and
+  // D(rates) of it when `derivative`), through equation i's partial in
+  // work_, by one synthesis and projection per unknown frequency. A
+  // derivative slot's own z' = D(w) z is ratio 1 and A = z; a condensed
+  // variable's definition v = ratio D(w) A adds its own (METHOD.md s.13).
+  void AddFrequencyColumns(size_t i, int j, const double* A, double ratio, bool derivative,
+                           Eigen::MatrixXd* jacobian);
   void AddSlotThroughBlock(int i, int s, const double* rates, bool constant, const Eigen::VectorXd& x,
                            Eigen::MatrixXd* jacobian);
   // Sparse J: block (block row i -> full residual row rows_of(i) or -1,
