@@ -30,7 +30,7 @@ launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 # Ninja for a new build directory: it compiles a target's sources while the
 # libraries it links are still being built (Make waits for them). A fresh
-# Release build on 2 cores: 15.7 min for 1909 s of CPU, both cores busy
+# Release build on 2 cores: 14-15.7 min for 1713-1909 s of CPU, both cores busy
 # throughout (about 16 min with Make). An existing directory keeps its generator.
 generator=()
 [ -f "$build_dir/CMakeCache.txt" ] || generator=(-G Ninja)
