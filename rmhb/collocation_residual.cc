@@ -63,10 +63,9 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
         auto [it, fresh] = time_index.try_emplace(mono.time, static_cast<int>(time_samples_.size()));
         if (fresh) {
           Eigen::VectorXd v(M_);
-          for (long s = 0; s < M_; ++s) {
-            const double a = transform_->Phase(mono.time.harmonic, s);
-            v(s) = mono.time.kind == TimeFunction::Kind::kCos ? std::cos(a) : std::sin(a);
-          }
+          transform_->Phases(mono.time.harmonic, v.data());
+          for (long s = 0; s < M_; ++s)
+            v(s) = mono.time.kind == TimeFunction::Kind::kCos ? std::cos(v(s)) : std::sin(v(s));
           time_samples_.push_back(std::move(v));
         }
         t.time = it->second;
@@ -102,7 +101,7 @@ CollocationResidual::CollocationResidual(const HarmonicBalanceProblem& problem,
   rates_.resize(basis.size());
   const std::vector<int> first_harmonic{1};
   sample_phase_.resize(M_);
-  for (long t = 0; t < M_; ++t) sample_phase_[t] = transform_->Phase(first_harmonic, t);
+  transform_->Phases(first_harmonic, sample_phase_.data());
   SetUpLinearAlgebra();
   // pow(largest sample, degree) is finite exactly below this bound.
   overflow_bound_ = std::pow(std::numeric_limits<double>::max(), 1.0 / degree_);

@@ -118,9 +118,13 @@ class SpectralTransform {
   // exp(i g.phi_s) phase of sample s for integer grid vector g, as the
   // fraction (g.s mod M)/M per angle; used to sample time functions exactly.
   double Phase(const std::vector<int>& base_harmonic, long sample) const;
+  // Phase(base_harmonic, s) for every sample s, into phases[0 .. samples()).
+  void Phases(const std::vector<int>& base_harmonic, double* phases) const;
 
  private:
   std::complex<double> SpectrumAt(const int* grid_index) const;
+  // g.k along angle d for base harmonic k (the embedding's row d).
+  long GridRate(const std::vector<int>& base_harmonic, int d) const;
   // One angle: P at the differences and sums of harmonics [first, last)'s
   // grid indices, into line_spectrum_ and sum_spectrum_.
   void GatherLineSpectrum(int first, int last) const;
