@@ -83,18 +83,24 @@ void UnitCircle(long M, Eigen::VectorXd* c, Eigen::VectorXd* s) {
 
 }  // namespace
 
+// The dense backend on the half grid t = 0 .. M/2 (H = M/2 + 1 samples):
+// cos(g t) is even and sin(g t) odd about t = 0 (and t = M/2), so E's rows
+// past M/2 repeat the first ones, the sin columns negated, and a sum over the
+// grid against them is a sum over the half grid against the samples' even
+// and odd parts (Fold). Half the tables' memory, whose first-touch page
+// faults were a fifth of a first solve in a fresh process, and half the
+// multiply-adds of every synthesis, projection and analysis (issue 14).
 struct SpectralTransform::DenseTables {
-  Eigen::MatrixXd synthesis;  // E (M x C)
+  Eigen::MatrixXd cos;  // H x K: cos(g_k t); column 0 the constant 1
+  Eigen::MatrixXd sin;  // H x K: sin(g_k t); column 0 zero, exact zeros at t = 0 and M/2
 };
-struct SpectralTransform::ProjectionTable {
-  Eigen::MatrixXd projection;  // E* (C x M)
-};
-// The half spectrum's indices that no column of E reaches (the products'
-// harmonics beyond the basis) and their real and imaginary rows, scaled by
-// 1/M; the basis's own come from E (Analyze).
+// The half spectrum's indices that no harmonic of the basis reaches (the
+// products' harmonics beyond it) and their real and imaginary rows on the
+// half grid, scaled by 1/M (the imaginary negated); the basis's own come
+// from DenseTables (Analyze).
 struct SpectralTransform::SpectrumTables {
   std::vector<long> rows;
-  Eigen::MatrixXd cos, sin;
+  Eigen::MatrixXd cos, sin;  // rows x H
 };
 
 SpectralTransform::SpectralTransform(const HarmonicBasis& basis, const Sampling& sampling,
@@ -161,40 +167,62 @@ SpectralTransform::~SpectralTransform() {
 
 void SpectralTransform::SetUpDense() {
   static auto* cache = new TableCache<std::pair<long, std::vector<int>>, DenseTables>;
-  const long M = total_;
+  const long M = total_, H = M / 2 + 1;
   const int K = basis_.size();
   dense_tables_ = cache->Get({M, grid_index_}, [&] {
     Eigen::VectorXd c, s;
     UnitCircle(M, &c, &s);
     DenseTables tables;
-    tables.synthesis.resize(M, 2 * K - 1);
-    tables.synthesis.col(0).setOnes();
+    tables.cos.resize(H, K);
+    tables.sin.resize(H, K);
+    tables.cos.col(0).setOnes();
+    tables.sin.col(0).setZero();
     // The phase index g t mod M advanced by g per sample: a 64-bit division
-    // per entry was most of a first solve's table time (18 k entries at
-    // N = 55, M = 168; issue 14).
+    // per entry was most of a first solve's table time (issue 14).
     for (int k = 1; k < K; ++k) {
       const long g = Mod(grid_index_[k], static_cast<int>(M));
-      for (long t = 0, j = 0; t < M; ++t, j = j + g < M ? j + g : j + g - M) {
-        tables.synthesis(t, 2 * k - 1) = c(j);
-        tables.synthesis(t, 2 * k) = s(j);
+      for (long t = 0, j = 0; t < H; ++t, j = j + g < M ? j + g : j + g - M) {
+        tables.cos(t, k) = c(j);
+        tables.sin(t, k) = 2 * t == M ? 0.0 : s(j);  // sin(g pi) = 0, not sin's round-off
       }
     }
     return tables;
   });
+  even_.resize(H);
+  odd_.resize(H);
+  cos_part_.resize(K);
+  sin_part_.resize(K);
 }
 
-// E* on first use only: a solve under a symmetry projects through E's
-// columns (ProjectSome) and never needs it. Its pages were a sixth of a
-// first solve's time in a fresh process (the pendulum at N = 25 on the
-// original equations: 25 of 96 page faults, 0.39 -> 0.33 ms; issue 14).
-void SpectralTransform::SetUpDenseProjection() {
-  static auto* cache = new TableCache<std::pair<long, std::vector<int>>, ProjectionTable>;
-  projection_table_ = cache->Get({total_, grid_index_}, [&] {
-    ProjectionTable table;
-    table.projection = (2.0 / double(total_)) * dense_tables_->synthesis.transpose();
-    table.projection.row(0) *= 0.5;
-    return table;
-  });
+// The samples' even and odd parts about t = 0 on the half grid: the sum of
+// p_t cos(g t) over the grid is that of even_t cos(g t) over the half grid,
+// and the same for sin with odd_ (t = 0 and t = M/2 are their own mirrors).
+void SpectralTransform::Fold(const double* p) {
+  const long M = total_, H = even_.size();
+  even_(0) = p[0];
+  odd_(0) = 0;
+  for (long t = 1; t < H; ++t) {
+    const double mirror = 2 * t == M ? 0.0 : p[M - t];
+    even_(t) = p[t] + mirror;
+    odd_(t) = 2 * t == M ? 0.0 : p[t] - mirror;
+  }
+}
+
+// Samples whose cos part on the half grid is even_ and sin part odd_.
+void SpectralTransform::Unfold(double* p) const {
+  const long M = total_, H = even_.size();
+  p[0] = even_(0);
+  for (long t = 1; t < H; ++t) {
+    p[t] = even_(t) + odd_(t);
+    if (2 * t != M) p[M - t] = even_(t) - odd_(t);
+  }
+}
+
+// cos_part_ = (cos table)' even_, sin_part_ = (sin table)' odd_: every
+// harmonic's sums over the grid (Fold first).
+void SpectralTransform::DenseSums() {
+  cos_part_.noalias() = dense_tables_->cos.transpose() * even_;
+  sin_part_.noalias() = dense_tables_->sin.transpose() * odd_;
 }
 
 void SpectralTransform::SetUpDenseSpectrum() {
@@ -212,18 +240,18 @@ void SpectralTransform::SetUpDenseSpectrum() {
     const long n = static_cast<long>(tables.rows.size());
     Eigen::VectorXd c, s;
     UnitCircle(M, &c, &s);
-    tables.cos.resize(n, M);
-    tables.sin.resize(n, M);
+    const long H = M / 2 + 1;
+    tables.cos.resize(n, H);
+    tables.sin.resize(n, H);
     for (long i = 0; i < n; ++i) {
       const long g = tables.rows[i];  // in [0, M / 2]
-      for (long t = 0, j = 0; t < M; ++t, j = j + g < M ? j + g : j + g - M) {
+      for (long t = 0, j = 0; t < H; ++t, j = j + g < M ? j + g : j + g - M) {
         tables.cos(i, t) = c(j) / double(M);
-        tables.sin(i, t) = -s(j) / double(M);
+        tables.sin(i, t) = 2 * t == M ? 0.0 : -s(j) / double(M);
       }
     }
     return tables;
   });
-  basis_spectrum_.resize(num_coefficients());
   half_re_.resize(spectrum_tables_->cos.rows());
   half_im_.resize(spectrum_tables_->cos.rows());
 }
@@ -346,8 +374,12 @@ void SpectralTransform::ProjectSome(const double* samples, const std::vector<int
 
 void SpectralTransform::SynthesizeOnGrid(const double* x, double* samples) {
   if (dense_) {
-    Eigen::Map<Eigen::VectorXd>(samples, total_).noalias() =
-        dense_tables_->synthesis * Eigen::Map<const Eigen::VectorXd>(x, dense_tables_->synthesis.cols());
+    cos_part_(0) = x[0];
+    sin_part_(0) = 0;
+    for (int k = 1; k < basis_.size(); ++k) cos_part_(k) = x[2 * k - 1], sin_part_(k) = x[2 * k];
+    even_.noalias() = dense_tables_->cos * cos_part_;
+    odd_.noalias() = dense_tables_->sin * sin_part_;
+    Unfold(samples);
     return;
   }
   std::memset(static_cast<void*>(spectrum_), 0, sizeof(std::complex<double>) * half_total_);
@@ -369,25 +401,53 @@ void SpectralTransform::SynthesizeOnGrid(const double* x, double* samples) {
 
 void SpectralTransform::SynthesizeSomeOnGrid(const double* x, const std::vector<int>& some, double* samples) {
   if (!dense_) return SynthesizeOnGrid(x, samples);
-  Eigen::Map<Eigen::VectorXd> out(samples, total_);
-  out.setZero();
-  const Eigen::MatrixXd& E = dense_tables_->synthesis;
-  // Four columns per pass over the samples: a quarter of the loads and
-  // stores of `out` that one axpy per column would take.
-  const size_t n = some.size(), four = n - n % 4;
-  for (size_t i = 0; i < four; i += 4) {
-    const int a = some[i], b = some[i + 1], c = some[i + 2], d = some[i + 3];
-    out += x[a] * E.col(a) + x[b] * E.col(b) + x[c] * E.col(c) + x[d] * E.col(d);
+  const long H = even_.size();
+  double* cos_sum = even_.data();
+  double* sin_sum = odd_.data();
+  std::fill(cos_sum, cos_sum + H, 0.0);
+  std::fill(sin_sum, sin_sum + H, 0.0);
+  const DenseTables& E = *dense_tables_;
+  // Four columns per pass over a sum: a quarter of the loads and stores of
+  // the sum that one axpy per column would take.
+  struct Batch {
+    const double* column[4];
+    double a[4];
+    int n = 0;
+  } cos_batch, sin_batch;
+  auto flush = [H](Batch* b, double* sum) {
+    if (b->n == 4) {
+      const double *c0 = b->column[0], *c1 = b->column[1], *c2 = b->column[2], *c3 = b->column[3];
+      const double a0 = b->a[0], a1 = b->a[1], a2 = b->a[2], a3 = b->a[3];
+      for (long t = 0; t < H; ++t) sum[t] += a0 * c0[t] + a1 * c1[t] + a2 * c2[t] + a3 * c3[t];
+    } else {
+      for (int i = 0; i < b->n; ++i)
+        for (long t = 0; t < H; ++t) sum[t] += b->a[i] * b->column[i][t];
+    }
+    b->n = 0;
+  };
+  for (int c : some) {
+    const bool is_sin = c > 0 && c % 2 == 0;
+    Batch& b = is_sin ? sin_batch : cos_batch;
+    b.column[b.n] = is_sin ? E.sin.col(c / 2).data() : E.cos.col((c + 1) / 2).data();
+    b.a[b.n++] = x[c];
+    if (b.n == 4) flush(&b, is_sin ? sin_sum : cos_sum);
   }
-  for (size_t i = four; i < n; ++i) out += x[some[i]] * E.col(some[i]);
+  flush(&cos_batch, cos_sum);
+  flush(&sin_batch, sin_sum);
+  Unfold(samples);
 }
 
 void SpectralTransform::ProjectSomeOnGrid(const double* samples, const std::vector<int>& some, double* x) {
   if (!dense_) return ProjectOnGrid(samples, x);
-  // Row c of E* is column c of E times 2/M (1/M for the mean): a contiguous dot.
-  const Eigen::Map<const Eigen::VectorXd> p(samples, total_);
+  // Row c of E* is column c of E times 2/M (1/M for the mean): a dot on the
+  // half grid with the samples' even (cos) or odd (sin) part.
+  Fold(samples);
+  const DenseTables& E = *dense_tables_;
   const double scale = 2.0 / double(total_);
-  for (int c : some) x[c] = (c == 0 ? 0.5 * scale : scale) * dense_tables_->synthesis.col(c).dot(p);
+  for (int c : some)
+    x[c] = c == 0 ? 0.5 * scale * even_.sum()
+           : c % 2 ? scale * E.cos.col((c + 1) / 2).dot(even_)
+                   : scale * E.sin.col(c / 2).dot(odd_);
 }
 
 void SpectralTransform::ForwardFftw(const double* samples) {
@@ -397,9 +457,11 @@ void SpectralTransform::ForwardFftw(const double* samples) {
 
 void SpectralTransform::ProjectOnGrid(const double* samples, double* x) {
   if (dense_) {
-    if (!projection_table_) SetUpDenseProjection();
-    Eigen::Map<Eigen::VectorXd>(x, projection_table_->projection.rows()).noalias() =
-        projection_table_->projection * Eigen::Map<const Eigen::VectorXd>(samples, total_);
+    Fold(samples);
+    DenseSums();
+    const double scale = 2.0 / double(total_);
+    x[0] = 0.5 * scale * cos_part_(0);
+    for (int k = 1; k < basis_.size(); ++k) x[2 * k - 1] = scale * cos_part_(k), x[2 * k] = scale * sin_part_(k);
     return;
   }
   ForwardFftw(samples);
@@ -424,24 +486,24 @@ void SpectralTransform::Analyze(const double* samples) {
     throw std::logic_error("SpectralTransform: a shifted grid serves residual evaluations, not Jacobians");
   if (dense_) {
     if (!spectrum_tables_) SetUpDenseSpectrum();
-    const Eigen::Map<const Eigen::VectorXd> p(samples, total_);
-    // The basis's harmonics: E's columns are their cos and sin at the
-    // samples, P[r] = (cos . p - i sin . p) / M (conjugated past M / 2).
-    basis_spectrum_.noalias() = dense_tables_->synthesis.transpose() * p;
+    // The basis's harmonics: P[r] = (cos . p - i sin . p) / M at their grid
+    // index r (conjugated past M / 2).
+    Fold(samples);
+    DenseSums();
     const double inv = 1.0 / double(total_);
     const int M = static_cast<int>(total_);
-    analysed_[0] = basis_spectrum_(0) * inv;
+    analysed_[0] = cos_part_(0) * inv;
     for (int k = 1; k < basis_.size(); ++k) {
       const int r = Mod(grid_index_[k], M);
-      const double re = basis_spectrum_(2 * k - 1) * inv, im = basis_spectrum_(2 * k) * inv;
+      const double re = cos_part_(k) * inv, im = sin_part_(k) * inv;
       if (r <= M / 2)
         analysed_[r] = {re, -im};
       else
         analysed_[M - r] = {re, im};
     }
     const SpectrumTables& beyond = *spectrum_tables_;
-    half_re_.noalias() = beyond.cos * p;
-    half_im_.noalias() = beyond.sin * p;
+    half_re_.noalias() = beyond.cos * even_;
+    half_im_.noalias() = beyond.sin * odd_;
     for (size_t i = 0; i < beyond.rows.size(); ++i) analysed_[beyond.rows[i]] = {half_re_(i), half_im_(i)};
     return;
   }

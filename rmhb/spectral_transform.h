@@ -140,7 +140,9 @@ class SpectralTransform {
   long HalfIndex(const int* reduced) const;
   void SetUpDense();
   void SetUpDenseSpectrum();  // on the first Analyze: residual-only users skip it
-  void SetUpDenseProjection();  // on the first full Project: symmetric solves skip it
+  void Fold(const double* samples);      // even_, odd_ on the half grid
+  void Unfold(double* samples) const;    // from even_ (cos part) and odd_ (sin part)
+  void DenseSums();                      // cos_part_, sin_part_ from even_, odd_
   void ForwardFftw(const double* samples);  // real_ -> spectrum_
   // A shifted grid (Sampling::half_step): each harmonic's phase advance
   // over the half steps, and the coefficients turned by it.
@@ -170,18 +172,17 @@ class SpectralTransform {
   mutable std::vector<int> active_rows_;  // AddMultiplicationTo's row harmonics
   void* forward_ = nullptr;   // fftw_plan, owned by the process-wide cache
   void* backward_ = nullptr;  // fftw_plan, owned by the process-wide cache
-  // Dense backend: E (M x C), E* (C x M, on first use), and the rows of the
-  // half spectrum beyond the basis's harmonics (whose rows are E's columns),
-  // shared with every transform of the same grid in the process (made once,
-  // read only).
+  // Dense backend: E's cos and sin columns on the half grid t = 0 .. M/2
+  // (the rest mirrors them; E* is E' scaled), and the rows of the half
+  // spectrum beyond the basis's harmonics, shared with every transform of
+  // the same grid in the process (made once, read only).
   struct DenseTables;
-  struct ProjectionTable;
   struct SpectrumTables;
   bool dense_ = false;
   std::shared_ptr<const DenseTables> dense_tables_;
-  std::shared_ptr<const ProjectionTable> projection_table_;
   std::shared_ptr<const SpectrumTables> spectrum_tables_;
-  Eigen::VectorXd basis_spectrum_, half_re_, half_im_;
+  Eigen::VectorXd even_, odd_, cos_part_, sin_part_;  // half-grid samples, per-harmonic sums
+  Eigen::VectorXd half_re_, half_im_;
   std::vector<int> half_step_;                     // empty: not shifted
   std::vector<double> advance_cos_, advance_sin_;  // per basis harmonic
   Eigen::VectorXd turned_, projected_;
