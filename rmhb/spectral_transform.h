@@ -118,7 +118,7 @@ class SpectralTransform {
   // exp(i g.phi_s) phase of sample s for integer grid vector g, as the
   // fraction (g.s mod M)/M per angle; used to sample time functions exactly.
   double Phase(const std::vector<int>& base_harmonic, long sample) const;
-  // Phase(base_harmonic, s) for every sample s, into phases[0 .. samples()).
+  // Phase(base_harmonic, s) for every sample s, into phases[0 .. num_samples()).
   void Phases(const std::vector<int>& base_harmonic, double* phases) const;
 
  private:
