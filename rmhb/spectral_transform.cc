@@ -198,24 +198,26 @@ void SpectralTransform::SetUpDense() {
 // p_t cos(g t) over the grid is that of even_t cos(g t) over the half grid,
 // and the same for sin with odd_ (t = 0 and t = M/2 are their own mirrors).
 void SpectralTransform::Fold(const double* p) {
-  const long M = total_, H = even_.size();
+  const long M = total_;
   even_(0) = p[0];
   odd_(0) = 0;
-  for (long t = 1; t < H; ++t) {
-    const double mirror = 2 * t == M ? 0.0 : p[M - t];
-    even_(t) = p[t] + mirror;
-    odd_(t) = 2 * t == M ? 0.0 : p[t] - mirror;
+  for (long t = 1; 2 * t < M; ++t) {
+    even_(t) = p[t] + p[M - t];
+    odd_(t) = p[t] - p[M - t];
   }
+  if (M % 2 == 0) even_(M / 2) = p[M / 2], odd_(M / 2) = 0;
 }
 
-// Samples whose cos part on the half grid is even_ and sin part odd_.
+// Samples whose cos part on the half grid is even_ and sin part odd_ (zero
+// at t = 0 and t = M/2, where the sin tables are).
 void SpectralTransform::Unfold(double* p) const {
-  const long M = total_, H = even_.size();
+  const long M = total_;
   p[0] = even_(0);
-  for (long t = 1; t < H; ++t) {
+  for (long t = 1; 2 * t < M; ++t) {
     p[t] = even_(t) + odd_(t);
-    if (2 * t != M) p[M - t] = even_(t) - odd_(t);
+    p[M - t] = even_(t) - odd_(t);
   }
+  if (M % 2 == 0) p[M / 2] = even_(M / 2);
 }
 
 // cos_part_ = (cos table)' even_, sin_part_ = (sin table)' odd_: every
@@ -669,11 +671,6 @@ long SpectralTransform::GridRate(const std::vector<int>& h, int d) const {
 }
 
 double SpectralTransform::Phase(const std::vector<int>& h, long sample) const {
-  // One angle on the grid itself: one reduction.
-  if (dims_ == 1 && half_step_.empty()) {
-    const int m = sampling_.grid[0];
-    return 2.0 * M_PI * (double(Mod(GridRate(h, 0) * sample, m)) / m);
-  }
   // Decompose the flat sample index into grid coordinates (last fastest).
   double phase = 0.0;
   long s = sample;
