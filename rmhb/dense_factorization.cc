@@ -64,6 +64,68 @@ Eigen::VectorXd NotANumber(long n) {
   return Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
 }
 
+// P A = L U in place (unit L below the diagonal, U on and above), dgetf2's
+// right-looking loop: pivot k is the largest |entry| of column k on and below
+// the diagonal, its row swapped into place across the whole matrix. A zero
+// pivot leaves its column as it is; true if one was met.
+bool UnblockedLu(Eigen::MatrixXd* a, std::vector<int>* pivots) {
+  const Eigen::Index n = a->rows();
+  bool singular = false;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    double* ck = a->col(k).data();
+    Eigen::Index p = k;
+    double largest = std::abs(ck[k]);
+    for (Eigen::Index i = k + 1; i < n; ++i)
+      if (std::abs(ck[i]) > largest) largest = std::abs(ck[i]), p = i;
+    (*pivots)[k] = static_cast<int>(p);
+    if (largest == 0) {
+      singular = true;
+      continue;
+    }
+    if (p != k) a->row(k).swap(a->row(p));
+    const double pivot = ck[k];
+    for (Eigen::Index i = k + 1; i < n; ++i) ck[i] /= pivot;
+    for (Eigen::Index j = k + 1; j < n; ++j) {
+      double* cj = a->col(j).data();
+      const double u = cj[k];
+      for (Eigen::Index i = k + 1; i < n; ++i) cj[i] -= ck[i] * u;
+    }
+  }
+  return singular;
+}
+
+// b <- A^-1 b (or A^-T b) from UnblockedLu's factors of a regular A.
+void UnblockedSolve(const Eigen::MatrixXd& lu, const std::vector<int>& pivots, bool transposed, double* b) {
+  const Eigen::Index n = lu.rows();
+  if (!transposed) {
+    for (Eigen::Index k = 0; k < n; ++k) std::swap(b[k], b[pivots[k]]);
+    for (Eigen::Index k = 0; k < n; ++k) {  // L y = P b, a column at a time
+      const double* l = lu.col(k).data();
+      for (Eigen::Index i = k + 1; i < n; ++i) b[i] -= l[i] * b[k];
+    }
+    for (Eigen::Index k = n - 1; k >= 0; --k) {  // U x = y
+      const double* u = lu.col(k).data();
+      b[k] /= u[k];
+      for (Eigen::Index i = 0; i < k; ++i) b[i] -= u[i] * b[k];
+    }
+    return;
+  }
+  // A' = U' L' P: U' z = b, L' w = z (row k of U', L' is column k of U, L).
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double* u = lu.col(k).data();
+    double sum = b[k];
+    for (Eigen::Index i = 0; i < k; ++i) sum -= u[i] * b[i];
+    b[k] = sum / u[k];
+  }
+  for (Eigen::Index k = n - 1; k >= 0; --k) {
+    const double* l = lu.col(k).data();
+    double sum = b[k];
+    for (Eigen::Index i = k + 1; i < n; ++i) sum -= l[i] * b[i];
+    b[k] = sum;
+  }
+  for (Eigen::Index k = n - 1; k >= 0; --k) std::swap(b[k], b[pivots[k]]);
+}
+
 }  // namespace
 
 void SetDenseFactorizationThreads(int threads) {
@@ -90,7 +152,13 @@ DenseLu& DenseLu::compute(Eigen::MatrixXd&& A) {
   singular_ = false;
   // dgecon needs the 1-norm of A itself, before it is overwritten.
   norm_ = n ? A.cwiseAbs().colwise().sum().maxCoeff() : 0.0;
-  use_small_ = n > 0 && n <= kMaxEigenLuDimension;
+  unblocked_ = n > 0 && n <= kMaxUnblockedLuDimension;
+  use_small_ = n > kMaxUnblockedLuDimension && n <= kMaxEigenLuDimension;
+  if (unblocked_) {
+    lu_ = A;  // A is left to the caller, as below; lu_'s storage is reused
+    singular_ = UnblockedLu(&lu_, &pivots_);
+    return *this;
+  }
   if (use_small_) {
     // A is left to the caller (its storage is reused for the next matrix).
     small_.compute(A);
@@ -136,7 +204,7 @@ double DenseLu::rcond() const {
   const Eigen::MatrixXd& lu = use_small_ ? small_.matrixLU() : lu_;
   const int n = static_cast<int>(lu.rows());
   if (n == 0 || singular_ || !std::isfinite(norm_)) return rcond_;
-  if (use_small_) {
+  if (use_small_ || unblocked_) {
     // Eigen's solves: LAPACK's first call in a fresh process (its code and
     // buffers) cost a small solve more than the estimate (issue 14).
     const double inverse = InverseOneNormEstimate(
@@ -157,6 +225,11 @@ double DenseLu::rcond() const {
 Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const { return Solve(b, "N"); }
 
 void DenseLu::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
+  if (unblocked_ && !singular_ && b.size() == lu_.rows()) {
+    *x = b;
+    UnblockedSolve(lu_, pivots_, false, x->data());
+    return;
+  }
   if (!use_small_ || singular_ || b.size() != small_.matrixLU().rows()) {
     *x = Solve(b, "N");
     return;
@@ -172,6 +245,11 @@ Eigen::VectorXd DenseLu::Solve(const Eigen::VectorXd& b, const char* trans) cons
     throw std::invalid_argument("DenseLu::solve: right-hand side of size " +
                                 std::to_string(b.size()) + " for a matrix of " + std::to_string(n));
   if (singular_) return NotANumber(n);
+  if (unblocked_) {
+    Eigen::VectorXd x = b;
+    UnblockedSolve(lu_, pivots_, trans[0] != 'N', x.data());
+    return x;
+  }
   if (use_small_) return trans[0] == 'N' ? Eigen::VectorXd(small_.solve(b)) : Eigen::VectorXd(small_.transpose().solve(b));
   Eigen::VectorXd x = b;
   if (n == 0) return x;
