@@ -39,9 +39,10 @@ TEST(DenseLu, SolvesToTheExactSolution) {
   }
 }
 
-// Both paths: Eigen's small-matrix LU (n <= kMaxEigenLuDimension) and LAPACK's.
+// Every path: the plain loops (n <= kMaxUnblockedLuDimension), Eigen's LU
+// (n <= kMaxEigenLuDimension) and LAPACK's.
 TEST(DenseLu, TransposedSolveAndMovedMatrixGiveTheExactSolution) {
-  for (int n : {14, kMaxEigenLuDimension + 56}) {
+  for (int n : {14, kMaxUnblockedLuDimension + 8, kMaxEigenLuDimension + 56}) {
     const Eigen::MatrixXd A = WellConditioned(n, n, 5);
     const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, 2.0, -1.0);
     DenseLu lu;
@@ -52,10 +53,31 @@ TEST(DenseLu, TransposedSolveAndMovedMatrixGiveTheExactSolution) {
   }
 }
 
+// The rows of a diagonally dominant matrix rotated by one: the pivot searches
+// swap rows, and both solves must undo the swaps (in opposite orders), on
+// every path.
+TEST(DenseLu, RowSwapsAreUndoneByBothSolves) {
+  for (int n : {2, 7, kMaxUnblockedLuDimension, kMaxUnblockedLuDimension + 1, kMaxEigenLuDimension + 8}) {
+    const Eigen::MatrixXd D = WellConditioned(n, n, 13 + n);
+    Eigen::MatrixXd A(n, n);
+    for (int i = 0; i < n; ++i) A.row(i) = D.row((i + 1) % n);  // column 0's pivot is in the last row
+    const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, 1.5, -0.5);
+    DenseLu lu;
+    lu.compute(A);
+    ASSERT_FALSE(lu.singular()) << n;
+    EXPECT_LT((lu.solve(A * exact) - exact).cwiseAbs().maxCoeff(), 1e-13) << n;
+    EXPECT_LT((lu.solve_transposed(A.transpose() * exact) - exact).cwiseAbs().maxCoeff(), 1e-13) << n;
+    Eigen::VectorXd into;
+    lu.solve(A * exact, &into);
+    EXPECT_LT((into - exact).cwiseAbs().maxCoeff(), 1e-13) << n;
+  }
+}
+
 // A factorisation switching between the paths keeps answering for the last matrix.
 TEST(DenseLu, SmallAfterLargeAndBackSolveTheLastMatrix) {
   DenseLu lu;
-  for (int n : {kMaxEigenLuDimension + 16, 9, kMaxEigenLuDimension + 1, kMaxEigenLuDimension}) {
+  for (int n : {kMaxEigenLuDimension + 16, 9, kMaxEigenLuDimension + 1, kMaxEigenLuDimension, 12,
+                kMaxUnblockedLuDimension + 1}) {
     const Eigen::MatrixXd A = WellConditioned(n, n, 7 + n);
     const Eigen::VectorXd exact = Eigen::VectorXd::LinSpaced(n, -1.0, 3.0);
     lu.compute(A);
@@ -68,7 +90,7 @@ TEST(DenseLu, SmallAfterLargeAndBackSolveTheLastMatrix) {
 // on such matrices, never above the truth.
 TEST(DenseLu, ConditionEstimateMatchesTheExplicitInverse) {
   for (double scale : {1.0, 1e-6})
-    for (int n : {20, 80, kMaxEigenLuDimension + 20}) {  // Eigen's LU (our estimator), then LAPACK's (dgecon)
+    for (int n : {20, 80, kMaxEigenLuDimension + 20}) {  // loops', Eigen's LU (our estimator), LAPACK's (dgecon)
       Eigen::MatrixXd A = WellConditioned(n, n, 11);
       A.col(5) *= scale;  // ill-conditioned by a factor ~1/scale
       const double exact = 1 / (A.cwiseAbs().colwise().sum().maxCoeff() *
