@@ -210,13 +210,21 @@ double DiagonalRatio(const Eigen::VectorXd& d) {
   return a.size() && a.maxCoeff() > 0 ? a.minCoeff() / a.maxCoeff() : 0;
 }
 
-// *out = diag(row) J diag(column), a column at a time: Eigen's product of two
-// diagonals and a dense matrix cost ~1.5 k instructions on the Monte Carlo's
-// 7 x 7 Jacobians, five times the arithmetic.
+// *out = diag(row) J diag(column) by plain loops: Eigen's product of two
+// diagonals and a dense matrix, or its column expressions, cost ~1.5 k
+// instructions on the Monte Carlo's 7 x 7 Jacobians, five times the
+// arithmetic.
 void ScaleInto(const Eigen::VectorXd& row, const Eigen::MatrixXd& J, const Eigen::VectorXd& column,
                Eigen::MatrixXd* out) {
-  out->resize(J.rows(), J.cols());
-  for (Eigen::Index j = 0; j < J.cols(); ++j) out->col(j) = row.cwiseProduct(J.col(j)) * column(j);
+  const Eigen::Index m = J.rows();
+  out->resize(m, J.cols());
+  const double* r = row.data();
+  for (Eigen::Index j = 0; j < J.cols(); ++j) {
+    const double* a = J.col(j).data();
+    double* o = out->col(j).data();
+    const double c = column(j);
+    for (Eigen::Index i = 0; i < m; ++i) o[i] = r[i] * a[i] * c;
+  }
 }
 
 // Newton direction of the equilibrated system J_s = D_r J D_c: exact solve
@@ -367,12 +375,51 @@ class NewtonFactorization {
   DenseQr qr_;
 };
 
+// Below this many unknowns the regularised step's normal equations are
+// formed and factorised by plain loops: on the Monte Carlo's 7 x 7 systems
+// Eigen's blocked product packed both operands first, and its LLT (with the
+// l1 norm it keeps for rcond) cost ~1.7 k instructions against ~0.3 k.
+constexpr Eigen::Index kSmallNormalEquations = 16;
+
+// A = L L' in A's lower triangle (right-looking); false when a pivot is not
+// positive (or not finite): A is then not numerically positive definite.
+bool SmallCholesky(Eigen::MatrixXd* A) {
+  const Eigen::Index n = A->rows();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    double* ck = A->col(k).data();
+    if (!(ck[k] > 0)) return false;
+    ck[k] = std::sqrt(ck[k]);
+    for (Eigen::Index i = k + 1; i < n; ++i) ck[i] /= ck[k];
+    for (Eigen::Index j = k + 1; j < n; ++j) {
+      double* cj = A->col(j).data();
+      for (Eigen::Index i = j; i < n; ++i) cj[i] -= ck[i] * ck[j];
+    }
+  }
+  return true;
+}
+
+// b <- (L L')^-1 b from SmallCholesky's factor.
+void SmallCholeskySolve(const Eigen::MatrixXd& L, double* b) {
+  const Eigen::Index n = L.rows();
+  for (Eigen::Index k = 0; k < n; ++k) {  // L y = b, a column at a time
+    const double* l = L.col(k).data();
+    b[k] /= l[k];
+    for (Eigen::Index i = k + 1; i < n; ++i) b[i] -= l[i] * b[k];
+  }
+  for (Eigen::Index k = n - 1; k >= 0; --k) {  // L' x = y: row k of L' is column k of L
+    const double* l = L.col(k).data();
+    double sum = b[k];
+    for (Eigen::Index i = k + 1; i < n; ++i) sum -= l[i] * b[i];
+    b[k] = sum / l[k];
+  }
+}
+
 // (J'J + D) dx = -J'F; D diagonal. The matrix and the factorisations live
 // in `work`, kept across the attempts and iterations of a solve (no
 // allocation per attempt). J'J + D is positive definite whenever D > 0 or J
-// has full rank: Cholesky without pivoting (LLT) then, the pivoted LDLT only
-// when that fails (J rank deficient and D ~ 0). On the Monte Carlo's 7 x 7
-// systems LLT costs half of LDLT, which searched pivots and kept an l1 norm.
+// has full rank: Cholesky without pivoting then, the pivoted LDLT only when
+// that fails (J rank deficient and D ~ 0). Eigen's LLT costs half of its
+// LDLT on the Monte Carlo's 7 x 7 systems, the plain loops a fifth of that.
 struct RegularizedWork {
   Eigen::MatrixXd A;
   Eigen::LLT<Eigen::MatrixXd> llt;
@@ -382,6 +429,15 @@ void RegularizedStep(const Eigen::MatrixXd& JtJ, const Eigen::VectorXd& JtF,
                      const Eigen::VectorXd& diagonal, RegularizedWork* work, Eigen::VectorXd* y) {
   work->A = JtJ;
   work->A.diagonal() += diagonal;
+  if (JtJ.rows() < kSmallNormalEquations && SmallCholesky(&work->A)) {
+    *y = -JtF;
+    SmallCholeskySolve(work->A, y->data());
+    return;
+  }
+  if (JtJ.rows() < kSmallNormalEquations) {  // the loops found no Cholesky factor: A afresh
+    work->A = JtJ;
+    work->A.diagonal() += diagonal;
+  }
   if (work->llt.compute(work->A).info() == Eigen::Success) {
     *y = work->llt.solve(JtF);
   } else {
@@ -391,11 +447,10 @@ void RegularizedStep(const Eigen::MatrixXd& JtJ, const Eigen::VectorXd& JtF,
   *y = -*y;
 }
 
-// J'J of the scaled Jacobian: a coefficient-wise product below 16 columns
-// (Eigen's blocked product packs both operands first, most of its cost at
-// the Monte Carlo's 7 x 7), the blocked product above.
+// J'J of the scaled Jacobian: coefficient-wise for small systems (see
+// kSmallNormalEquations), the blocked product above.
 void NormalMatrix(const Eigen::MatrixXd& Js, Eigen::MatrixXd* JtJ) {
-  if (Js.cols() < 16) JtJ->noalias() = Js.transpose().lazyProduct(Js);
+  if (Js.cols() < kSmallNormalEquations) JtJ->noalias() = Js.transpose().lazyProduct(Js);
   else JtJ->noalias() = Js.transpose() * Js;
 }
 
