@@ -36,19 +36,19 @@ namespace rmhb {
 // loaded machine costs as much as it saves.
 constexpr int kMinThreadedDimension = 500;
 
-// Square matrices up to this size are factorised by Eigen's PartialPivLU in
-// storage kept from one factorisation to the next, and solved by its
-// triangular solves: at these sizes OpenBLAS's dgetrf/dgetrs spend as much
-// or more (one thread, warm: n = 40: 6.6 us against Eigen's 6.4; n = 82:
-// 35 against 31; n = 128: 114 against 119), and in a fresh process their
-// first call faults in OpenBLAS's buffers and code: the forced Duffing at
-// N = 20 (82 unknowns) paid ~0.1 ms of a 0.5 ms first solve for it (issue
-// 14). 14 unknowns (the Monte Carlo's Duffing at N = 3): ~1.6 k
-// instructions per dgetrs, more than the solve's 400 flops. The 1-norm
-// condition estimate is LAPACK's dgecon on the same packed L\U either way.
-// The last bits differ from LAPACK's: at 61 unknowns the SI-unit MEMS
-// Duffing's CVODE validation error moved from 1.6e-13 to 1.9e-12 (CVODE's
-// error, tests/cli/scaling_test.cc holds both with room).
+// Square matrices up to this size (above kMaxUnblockedLuDimension) are
+// factorised by Eigen's PartialPivLU in storage kept from one factorisation
+// to the next, and solved by its triangular solves: at these sizes
+// OpenBLAS's dgetrf/dgetrs spend as much or more (one thread, warm: n = 40:
+// 6.6 us against Eigen's 6.4; n = 82: 35 against 31; n = 128: 114 against
+// 119), and in a fresh process their first call faults in OpenBLAS's
+// buffers and code: the forced Duffing at N = 20 (82 unknowns) paid ~0.1 ms
+// of a 0.5 ms first solve for it (issue 14). 14 unknowns (the Monte Carlo's
+// Duffing at N = 3): ~1.6 k instructions per dgetrs, more than the solve's
+// 400 flops. The 1-norm condition estimate is InverseOneNormEstimate's on
+// these factors (dgecon on LAPACK's). The last bits differ from LAPACK's: at 61 unknowns
+// the SI-unit MEMS Duffing's CVODE validation error moved from 1.6e-13 to
+// 1.9e-12 (CVODE's error, tests/cli/scaling_test.cc holds both with room).
 constexpr int kMaxEigenLuDimension = 128;
 
 // Up to this size even Eigen's unblocked LU and triangular solves spend more
@@ -101,7 +101,7 @@ class DenseLu {
  private:
   Eigen::MatrixXd lu_;
   std::vector<int> pivots_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> small_;  // n <= kMaxEigenLuDimension
+  Eigen::PartialPivLU<Eigen::MatrixXd> small_;  // kMaxUnblockedLuDimension < n <= kMaxEigenLuDimension
   bool use_small_ = false;
   bool unblocked_ = false;  // n <= kMaxUnblockedLuDimension: L\U in lu_, by plain loops
   Eigen::VectorXd Solve(const Eigen::VectorXd& b, const char* trans) const;
