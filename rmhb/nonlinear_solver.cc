@@ -211,9 +211,8 @@ double DiagonalRatio(const Eigen::VectorXd& d) {
 }
 
 // *out = diag(row) J diag(column) by plain loops: Eigen's product of two
-// diagonals and a dense matrix, or its column expressions, cost ~1.5 k
-// instructions on the Monte Carlo's 7 x 7 Jacobians, five times the
-// arithmetic.
+// diagonals and a dense matrix cost ~1.5 k instructions for the 98
+// multiplications of the Monte Carlo's 7 x 7 Jacobians.
 void ScaleInto(const Eigen::VectorXd& row, const Eigen::MatrixXd& J, const Eigen::VectorXd& column,
                Eigen::MatrixXd* out) {
   const Eigen::Index m = J.rows();
@@ -274,7 +273,7 @@ class NewtonFactorization {
       // |J|_1 now, while J is at hand, for the estimates a summary asks for.
       if (options_.report_condition) norm_ = J.cwiseAbs().colwise().sum().maxCoeff();
     } else {
-      scratch_.noalias() = row_.asDiagonal() * J * column_.asDiagonal();
+      ScaleInto(row_, J, column_, &scratch_);
       qr_.compute(std::move(scratch_));
     }
   }
@@ -377,8 +376,9 @@ class NewtonFactorization {
 
 // Below this many unknowns the regularised step's normal equations are
 // formed and factorised by plain loops: on the Monte Carlo's 7 x 7 systems
-// Eigen's blocked product packed both operands first, and its LLT (with the
-// l1 norm it keeps for rcond) cost ~1.7 k instructions against ~0.3 k.
+// Eigen's blocked product packed both operands first, and a step (copy,
+// factorisation, substitutions) cost 4.8 k instructions with Eigen's LDLT,
+// 3.4 k with its LLT, 2.3 k with the loops (callgrind).
 constexpr Eigen::Index kSmallNormalEquations = 16;
 
 // A = L L' in A's lower triangle (right-looking); false when a pivot is not
@@ -418,8 +418,7 @@ void SmallCholeskySolve(const Eigen::MatrixXd& L, double* b) {
 // in `work`, kept across the attempts and iterations of a solve (no
 // allocation per attempt). J'J + D is positive definite whenever D > 0 or J
 // has full rank: Cholesky without pivoting then, the pivoted LDLT only when
-// that fails (J rank deficient and D ~ 0). Eigen's LLT costs half of its
-// LDLT on the Monte Carlo's 7 x 7 systems, the plain loops a fifth of that.
+// Cholesky meets a pivot that is not positive (J rank deficient, D ~ 0).
 struct RegularizedWork {
   Eigen::MatrixXd A;
   Eigen::LLT<Eigen::MatrixXd> llt;
@@ -429,22 +428,20 @@ void RegularizedStep(const Eigen::MatrixXd& JtJ, const Eigen::VectorXd& JtF,
                      const Eigen::VectorXd& diagonal, RegularizedWork* work, Eigen::VectorXd* y) {
   work->A = JtJ;
   work->A.diagonal() += diagonal;
-  if (JtJ.rows() < kSmallNormalEquations && SmallCholesky(&work->A)) {
-    *y = -JtF;
-    SmallCholeskySolve(work->A, y->data());
+  if (JtJ.rows() < kSmallNormalEquations) {
+    if (SmallCholesky(&work->A)) {
+      *y = -JtF;
+      SmallCholeskySolve(work->A, y->data());
+      return;
+    }
+    work->A = JtJ;  // the loops overwrote it
+    work->A.diagonal() += diagonal;
+  } else if (work->llt.compute(work->A).info() == Eigen::Success) {
+    *y = -work->llt.solve(JtF);
     return;
   }
-  if (JtJ.rows() < kSmallNormalEquations) {  // the loops found no Cholesky factor: A afresh
-    work->A = JtJ;
-    work->A.diagonal() += diagonal;
-  }
-  if (work->llt.compute(work->A).info() == Eigen::Success) {
-    *y = work->llt.solve(JtF);
-  } else {
-    work->ldlt.compute(work->A);
-    *y = work->ldlt.solve(JtF);
-  }
-  *y = -*y;
+  work->ldlt.compute(work->A);
+  *y = -work->ldlt.solve(JtF);
 }
 
 // J'J of the scaled Jacobian: coefficient-wise for small systems (see
