@@ -146,6 +146,8 @@ std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const Analyz
     }
   } else {
     y0 = RecordStart(model, &stage.rest_perturbation);
+    // So is a self-excited one's.
+    if (o.transient < 0) SettleAutonomousRecord(model, y0, &stage.record, &stage.settle_periods);
   }
   // A torus' record keeps its rate: its identification keeps the 32
   // strongest lines, far above what folds back from beyond 6 times the
@@ -178,7 +180,7 @@ std::optional<HarmonicSolution> IdentifyAndSeed(const Model& model, const Analyz
     s->status = AnalyzeStatus::kIdentificationFailed;
     s->message = id.message;
     if (id.status == frequency_id::IdentificationStatus::kNoConvergence)
-      s->message += " (a transient not yet decayed? try a longer --transient)";
+      s->message += " (a transient not yet decayed? try analyze with a longer --transient)";
     return std::nullopt;
   }
   if (period && s->solve_options.tolerance > 0) StartAtPeriodOrder(*period, &s->solve_options);

@@ -80,6 +80,7 @@ IdentifySummary Identify(const Model& model, const IdentifyOptions& o) {
     }
   } else {
     y0 = RecordStart(model, &perturbation);
+    if (o.transient < 0) SettleAutonomousRecord(model, y0, &record, &settle_periods);
   }
   RecordSampling sampling;
   frequency_id::Signal signal = o.samples_per_period > 0 ? RecordOriginal(model, w, y0, record)
@@ -118,7 +119,7 @@ std::string IdentifySummary::FullReport() const {
       out += line;
     }
     if (settle_periods > 0) {
-      std::snprintf(line, sizeof line, "  recorded once the forced motion settled (%d periods of the slowest base)\n",
+      std::snprintf(line, sizeof line, "  recorded once the motion settled (%d periods of the slowest base)\n",
                     settle_periods);
       out += line;
     }

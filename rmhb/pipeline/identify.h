@@ -51,8 +51,9 @@ struct IdentifySummary {
   // How a model's record was sampled: the asked rate, or denser
   // (samples_per_period 0); top_band 0 when not measured.
   RecordSampling sampling;
-  // A forced model's record starts once its motion settled (no --transient
-  // given): the periods that took, 0 for the default transient.
+  // A forced or self-excited model's record starts once its motion settled
+  // (no --transient given): the periods (returns to a section) that took, 0
+  // for the default transient.
   int settle_periods = 0;
 
   bool usable() const { return identification.IsUsable(); }

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "integrators/cvode_integrator.h"
+#include "integrators/event_detection.h"
 #include "rmhb/pipeline/analyze.h"
 
 namespace rmhb {
@@ -197,6 +198,65 @@ double TorusSettleTime(const Model& model, const StartOptions& start, int* perio
                                " periods: another attractor, or not quasi-periodic?");
   }
   throw std::runtime_error("two motions did not meet within " + std::to_string(start.max_periods) + " periods");
+}
+
+void SettleAutonomousRecord(const Model& model, const Eigen::VectorXd& y0, seeding::RecordOptions* record,
+                            int* periods) {
+  *periods = 0;
+  if (!model.original || model.problem.frequencies.size() != 1 || y0.size() == 0) return;
+  // The budget of a motion that never settles (a torus, chaos): returns, the
+  // returns without the gap halving, seconds. A Van der Pol cycle at
+  // mu = 0.01 halves its gap every ~11 returns.
+  constexpr int kMaxReturns = 2000, kMaxWithoutProgress = 100;
+  constexpr double kMaxSeconds = 2;
+  const StartOptions start;
+  const integrators::OdeSystem ode = model.original(model.problem.frequencies);
+  const integrators::IntegratorOptions io = SettleIntegration(model);
+  const auto begin = std::chrono::steady_clock::now();
+  try {
+    const integrators::IntegrationResult r = integrators::IntegrateOde(ode, y0, 0, {record->transient}, io);
+    if (!r.ok()) return;
+    Eigen::VectorXd y = r.trajectory.states.row(0).transpose();
+    // Chunks of 25 guessed periods; a guess far too high finds no return
+    // in one, and the chunk grows before the motion is called returnless.
+    double horizon = 25 * 2 * M_PI / model.problem.frequencies[0], t = record->transient;
+    double best_gap = INFINITY;
+    for (int returns = 0, without_progress = 0; returns < kMaxReturns && without_progress < kMaxWithoutProgress;) {
+      integrators::IntegrationResult info;
+      const std::vector<double> times = integrators::SectionReturns(ode, y, horizon, io, &info);
+      if (info.status != integrators::IntegrationStatus::kSuccess) return;
+      if (times.empty()) {
+        if ((horizon *= 8) > 1e4 * 2 * M_PI / model.problem.frequencies[0]) return;
+        continue;
+      }
+      const Eigen::MatrixXd& at = info.trajectory.states;
+      for (int k = 0; k < at.rows(); ++k, ++returns) {
+        const Eigen::VectorXd next = at.row(k).transpose();
+        const double gap = (next - y).lpNorm<Eigen::Infinity>();
+        if (gap <= start.settle_tolerance * std::max(1.0, next.lpNorm<Eigen::Infinity>())) {
+          if (returns == 0) return;  // settled by the default transient: the record as it was
+          // Returns that close in on an equilibrium (a damped motion) settle
+          // no cycle: its record stays as it was.
+          Eigen::VectorXd flow(next.size());
+          ode.rhs(0, next.data(), flow.data());
+          if (flow.lpNorm<Eigen::Infinity>() <= 1e-6 * model.problem.frequencies[0] * std::max(1.0, next.lpNorm<Eigen::Infinity>()))
+            return;
+          const double later = t + times[k] - record->transient;
+          record->t_end += later;
+          record->transient += later;
+          *periods = returns + 1;
+          return;
+        }
+        if (gap <= 0.5 * best_gap) best_gap = gap, without_progress = 0;
+        else ++without_progress;
+        y = next;
+      }
+      t += times.back();
+      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count() > kMaxSeconds) return;
+    }
+  } catch (const std::exception&) {
+    // A model the integrator refuses keeps its record; the record reports it.
+  }
 }
 
 StartedSolve SolveFromAnyStart(const Model& model, const HarmonicSolution& guess,

@@ -76,6 +76,20 @@ double TorusSettleTime(const Model& model, const StartOptions& start, int* perio
 // periodic motion does not settle within the budget.
 Eigen::VectorXd ForcedRecordStart(const Model& model, seeding::RecordOptions* record, int* periods);
 
+// The record of a self-excited motion (one unknown frequency, explicit ODEs)
+// when no transient was given (identify, analyze): from y0 (RecordStart)
+// past the default transient, the motion's returns to the Poincare section
+// through the state there (SectionReturns) are followed until two in a row
+// agree to settle_tolerance max(1, |y|): its attractor's fixed point. A
+// record that had not settled by its default transient (a limit cycle
+// approached at a rate ~ its damping, as the Van der Pol family's) is moved
+// past the settling time, *periods set to the returns it took; otherwise
+// (settled by then, on an equilibrium, no returns, no contraction, the
+// budget used up: a damped motion, a torus, chaos) the record is left as it
+// was, *periods 0.
+void SettleAutonomousRecord(const Model& model, const Eigen::VectorXd& y0, seeding::RecordOptions* record,
+                            int* periods);
+
 }  // namespace rmhb
 
 #endif  // RMHB_PIPELINE_START_H_

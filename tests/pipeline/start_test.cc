@@ -323,6 +323,35 @@ TEST(Start, AnAutonomousFileWithNothingButItsEquationsFindsItsLimitCycle) {
   EXPECT_NEAR(2 * M_PI / v.solution().frequencies()[0], vdp_period, 1e-8 * vdp_period);
 }
 
+// A self-excited motion still approaching its cycle when the default
+// transient ends: the record once its returns to a section have settled
+// (before, the record's slow growth defeated the identification, analyze
+// stopped with identification_failed and solve kept the equilibrium its
+// guess converged to). Reference: CVODE's period between upward crossings
+// of z = 0 over 1000 time units from the same start.
+TEST(Start, ASlowlySettlingSelfExcitedMotionIsRecordedOnItsCycle) {
+  const Model model = LoadModel("tests/pipeline/models/slow-vdp-duffing.yaml");
+  const double period = testing::LimitCyclePeriodOf(model, 1000);
+  SolveSettings settings;  // as `rmhb analyze` with no options
+  settings.default_tol = SolveSettings::kDefaultTolerance;
+  const PreparedSolve prepared = PrepareSolve(model, settings);
+  AnalyzeOptions options;
+  options.solve = prepared.options;
+  const AnalyzeSummary a = Analyze(prepared.model, options);
+  ASSERT_TRUE(a.ok()) << a.FullReport();
+  EXPECT_GT(a.trajectory->settle_periods, 0);
+  EXPECT_GT(a.trajectory->record.transient, 0.1 * (a.trajectory->record.t_end - a.trajectory->record.transient));
+  EXPECT_NEAR(2 * M_PI / a.solve->solution->frequencies()[0], period, 1e-8 * period);
+  EXPECT_LT(a.validation->max_error, 1e-8);
+
+  const SolveSummary s = SolveAsTheCli(model);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
+  EXPECT_EQ(s.start_route, "identification");
+  ASSERT_TRUE(s.validation && s.validation->report.ok);
+  EXPECT_LT(s.validation->verdict.relative_error, 1e-8);
+  EXPECT_NEAR(2 * M_PI / s.solution().frequencies()[0], period, 1e-8 * period);
+}
+
 TEST(Start, AForcedTorusWithoutAGuessIsRecordedOnceItHasSettled) {
   const SolveSummary s = SolveAsTheCli(LoadModel("tests/pipeline/models/two-tone-duffing.yaml"));
   ASSERT_EQ(s.status, SolveStatus::kConverged) << s.FullReport();
