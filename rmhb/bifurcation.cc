@@ -53,6 +53,23 @@ TestFunctionSigns TestSigns(const Multipliers& mu, int trivial) {
   return {below_plus % 2 ? -1 : 1, below_minus % 2 ? -1 : 1, torus % 2 ? -1 : 1, pairs % 2 ? -1 : 1};
 }
 
+double JudgedModulus(const Multipliers& mu, int trivial, double band, bool* paired) {
+  if (paired) *paired = false;
+  int partner = -1;
+  if (trivial >= 0)
+    for (size_t i = 0; i < mu.size(); ++i)
+      if (static_cast<int>(i) != trivial && IsReal(mu[i]) &&
+          (partner < 0 || std::abs(mu[i] - mu[trivial]) < std::abs(mu[partner] - mu[trivial])))
+        partner = static_cast<int>(i);
+  const bool pair = partner >= 0 && std::abs(std::abs(mu[partner] * mu[trivial]) - 1) <= band;
+  double largest = pair ? std::sqrt(std::abs(mu[partner] * mu[trivial])) : 0;
+  for (size_t i = 0; i < mu.size(); ++i)
+    if (static_cast<int>(i) != trivial && !(pair && static_cast<int>(i) == partner))
+      largest = std::max(largest, std::abs(mu[i]));
+  if (paired) *paired = pair;
+  return largest;
+}
+
 bool CriticalMultiplier(const Multipliers& mu, int trivial, BifurcationType type, std::complex<double>* critical,
                         double* distance) {
   double best = std::numeric_limits<double>::infinity();

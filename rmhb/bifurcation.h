@@ -75,6 +75,17 @@ constexpr double kRealMultiplierTolerance = 1e-8;
 // `trivial`: the index of the trivial multiplier, or -1.
 TestFunctionSigns TestSigns(const Multipliers& mu, int trivial);
 
+// The modulus a stability verdict judges: the largest non-trivial |mu|
+// (`trivial`: its index, or -1). An orbit in a family (every orbit of a
+// conservative system; a fold) has a double multiplier at 1 with a Jordan
+// block, and an error e in the orbit splits it into 1 +- sqrt(e) while their
+// product stays 1 + O(e): the relativistic oscillator at N = 80, beta =
+// 0.975 gave 1.0000015 and 0.9999985 from a 4e-7 truncation. So when the
+// real multiplier nearest the trivial one makes a product with it within
+// `band` of 1, the pair counts by its geometric mean (*paired set to true):
+// the verdict of such a pair is neutral, as the exact multipliers say.
+double JudgedModulus(const Multipliers& mu, int trivial, double band, bool* paired = nullptr);
+
 // The multiplier that crosses for `type` and its signed distance from the
 // crossing: the real one nearest +1 (fold, branch point; mu - 1), the real
 // one nearest -1 (period doubling; mu + 1), the complex one (Im > 0) nearest

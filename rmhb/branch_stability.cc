@@ -188,14 +188,13 @@ void BranchStability::Finish(const Multipliers& multipliers, int trivial, Stabil
                    [&](int a, int b) { return std::abs(multipliers[a]) > std::abs(multipliers[b]); });
   p->multipliers.clear();
   p->trivial_multiplier = -1;
-  p->max_multiplier = 0;
   for (size_t i = 0; i < order.size(); ++i) {
     p->multipliers.push_back(multipliers[order[i]]);
     if (order[i] == trivial) p->trivial_multiplier = static_cast<int>(i);
-    else p->max_multiplier = std::max(p->max_multiplier, std::abs(multipliers[order[i]]));
   }
   p->stability_method = method;
   const double band = options_.neutral_band;
+  p->max_multiplier = JudgedModulus(multipliers, trivial, band);
   p->stability = p->max_multiplier < 1 - band   ? PointStability::kStable
                  : p->max_multiplier > 1 + band ? PointStability::kUnstable
                                                 : PointStability::kNeutral;

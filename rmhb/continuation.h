@@ -204,7 +204,8 @@ struct ContinuationPoint {
   StabilityMethod stability_method = StabilityMethod::kNone;  // the method that gave the multipliers
   // Floquet multipliers by decreasing modulus (Hill: one per differential
   // state), the trivial one's index (autonomous orbits) or -1, and the
-  // largest non-trivial modulus.
+  // largest non-trivial modulus as the verdict judged it (JudgedModulus:
+  // a double 1 split by the orbit's error counts by its geometric mean).
   Multipliers multipliers;
   int trivial_multiplier = -1;
   double max_multiplier = 0;

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rmhb/bifurcation.h"
 #include "rmhb/pipeline/monodromy.h"
 #include "rmhb/pipeline/report.h"
 
@@ -56,7 +57,7 @@ void SwitchedFloquetPart(const Model& model, const HarmonicSolution& solution, c
   r.multipliers = m.multipliers;
   r.trivial = m.trivial;
   r.seconds = m.seconds;
-  r.max_modulus = LargestModulus(r.multipliers, r.trivial);
+  r.max_modulus = JudgedModulus(r.multipliers, r.trivial, o.neutral_band);
   r.stable = r.max_modulus < 1 - o.neutral_band;
   s->floquet = std::move(r);
   s->floquet_integrator = m.integrator;
@@ -172,15 +173,8 @@ std::string StabilityOptions::IsValid() const {
   return torus.IsValid();
 }
 
-double LargestModulus(const Multipliers& mu, int trivial) {
-  double largest = 0;
-  for (size_t i = 0; i < mu.size(); ++i)
-    if (static_cast<int>(i) != trivial) largest = std::max(largest, std::abs(mu[i]));
-  return largest;
-}
-
 StabilityVerdict MultiplierVerdict(const Multipliers& mu, int trivial, double band) {
-  const double largest = LargestModulus(mu, trivial);
+  const double largest = JudgedModulus(mu, trivial, band);
   return largest < 1 - band ? StabilityVerdict::kStable
          : largest > 1 + band ? StabilityVerdict::kUnstable
                               : StabilityVerdict::kNeutral;
@@ -199,8 +193,11 @@ StabilitySummary Stability(const Model& model, const HarmonicSolution& solution,
   s.verdict = floquet_ok ? s.floquet_verdict : s.hill ? s.hill_verdict : StabilityVerdict::kUnknown;
   s.neutral_band = options.neutral_band;
   auto judge = [&s](const Multipliers& mu, int trivial, const char* by) {
-    s.largest_modulus = LargestModulus(mu, trivial);
-    s.judged_by = std::string(by) + (trivial >= 0 ? ", the trivial multiplier left out" : "");
+    bool paired = false;
+    s.largest_modulus = JudgedModulus(mu, trivial, s.neutral_band, &paired);
+    s.judged_by = std::string(by) + (paired ? ", the trivial multiplier and its partner by their geometric mean "
+                                              "(a double 1 split by the orbit's error)"
+                                   : trivial >= 0 ? ", the trivial multiplier left out" : "");
   };
   if (floquet_ok)
     judge(s.floquet->multipliers, s.floquet->trivial, "CVODE");

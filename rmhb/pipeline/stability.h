@@ -61,8 +61,8 @@ struct StabilitySummary {
   std::optional<double> max_multiplier_difference;
   StabilityVerdict verdict = StabilityVerdict::kUnknown;
   // What the verdict judged: the largest |mu| (the trivial multiplier left
-  // out) of the method it came from (CVODE's when it ran, else Hill's),
-  // against 1 -+ neutral_band. NaN without a verdict.
+  // out; JudgedModulus) of the method it came from (CVODE's when it ran,
+  // else Hill's), against 1 -+ neutral_band. NaN without a verdict.
   double largest_modulus = std::numeric_limits<double>::quiet_NaN();
   std::string judged_by;  // "CVODE" or "Hill" (", the trivial multiplier left out")
   double neutral_band = 0;
@@ -99,12 +99,10 @@ StabilitySummary Stability(const Model& model, const HarmonicSolution& solution,
 StabilitySummary TorusStabilityFrom(const HarmonicBalanceProblem& problem, const HarmonicSolution& torus,
                                     TorusStabilityReport lyapunov, const StabilityOptions& options = {});
 
-// The verdict of a set of multipliers, the trivial one (index, or -1) left out.
+// The verdict of a set of multipliers, the trivial one (index, or -1) left
+// out: JudgedModulus (rmhb/bifurcation.h) against 1 -+ neutral_band.
 StabilityVerdict MultiplierVerdict(const std::vector<std::complex<double>>& multipliers, int trivial,
                                    double neutral_band);
-// The largest |mu| with the trivial one (index, or -1) left out: what
-// MultiplierVerdict compares with 1 -+ neutral_band.
-double LargestModulus(const std::vector<std::complex<double>>& multipliers, int trivial);
 
 }  // namespace rmhb
 

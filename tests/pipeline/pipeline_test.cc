@@ -121,5 +121,28 @@ TEST(PipelineStability, HillAndTheMonodromyMatrixAgree) {
   EXPECT_THROW(Stability(model, *solved.solution, wrong), std::invalid_argument);
 }
 
+// Every orbit of a conservative system is neutral: its multipliers are a
+// double 1 (exactly; the period depends on the energy). A truncated orbit
+// (order 8 at amplitude 3: ~1e-5 off) splits CVODE's pair into 1.009 and
+// 0.991, which was judged "unstable" by the larger alone; their product,
+// which the error moves only to first order, is 1 (det = 1: div f = 0).
+TEST(PipelineStability, AConservativeOrbitIsNeutralAtALowOrder) {
+  const Model model = LoadModel("tests/pipeline/models/conservative-duffing.yaml");
+  HarmonicBalanceOptions options;
+  options.order = 8;
+  const HarmonicBalanceSummary solved = SolveHarmonicBalance(model.problem, GuessAtOrder(model, 8), options);
+  ASSERT_TRUE(solved.usable()) << solved.FullReport();
+  const StabilitySummary s = Stability(model, *solved.solution);
+  ASSERT_TRUE(s.floquet && s.floquet->ok) << s.floquet_note;
+  ASSERT_EQ(s.floquet->multipliers.size(), 2u);
+  const double split = std::abs(std::abs(s.floquet->multipliers[0]) - 1);
+  EXPECT_GT(split, 1e-4);  // the truncation's split, far outside the band
+  EXPECT_NEAR(std::abs(s.floquet->multipliers[0] * s.floquet->multipliers[1]), 1, 1e-8);
+  EXPECT_EQ(s.floquet_verdict, StabilityVerdict::kNeutral);
+  EXPECT_EQ(s.verdict, StabilityVerdict::kNeutral);
+  EXPECT_NEAR(s.largest_modulus, 1, 1e-8);
+  EXPECT_NE(s.judged_by.find("geometric mean"), std::string::npos) << s.judged_by;
+}
+
 }  // namespace
 }  // namespace rmhb

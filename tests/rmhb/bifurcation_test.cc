@@ -79,6 +79,27 @@ TEST(BifurcationTestFunctions, CriticalMultipliers) {
   EXPECT_NEAR(d, -0.3, 1e-15);
 }
 
+// A double 1 split by an orbit's error (1 +- a, product 1) counts by its
+// geometric mean; a trivial 1 beside a partner that moves the product (a
+// stable 0.85, a saddle 1.5 with 0.667 elsewhere) or a complex pair does not
+// pair, and the largest other |mu| is judged as before.
+TEST(BifurcationTestFunctions, JudgedModulusPairsOnlyASplitDoubleOne) {
+  bool paired = false;
+  EXPECT_NEAR(JudgedModulus({C(1.0091), C(1 / 1.0091), C(0.5)}, 1, 1e-6, &paired), 1, 1e-12);
+  EXPECT_TRUE(paired);
+  EXPECT_NEAR(JudgedModulus({C(1.0091), C(1 / 1.0091), C(1.2)}, 0, 1e-6, &paired), 1.2, 1e-15);
+  EXPECT_TRUE(paired);
+  EXPECT_EQ(JudgedModulus({C(1), C(0.85)}, 0, 1e-6, &paired), 0.85);
+  EXPECT_FALSE(paired);
+  EXPECT_EQ(JudgedModulus({C(1.5), C(1), C(1 / 1.5)}, 1, 1e-6, &paired), 1.5);
+  EXPECT_FALSE(paired);
+  const Multipliers complex = {C(1), std::polar(1.001, 1e-3), std::polar(1.001, -1e-3)};
+  EXPECT_EQ(JudgedModulus(complex, 0, 1e-6, &paired), std::abs(complex[1]));
+  EXPECT_FALSE(paired);
+  EXPECT_EQ(JudgedModulus({C(1.3), C(0.9)}, -1, 1e-6, &paired), 1.3);  // no trivial multiplier
+  EXPECT_FALSE(paired);
+}
+
 double MaxResidual(const HarmonicBalanceProblem& problem, const HarmonicSolution& solution, int samples) {
   CollocationResidual r(problem, solution.basis(), Sampling::Uniform(samples));
   Eigen::VectorXd F;
