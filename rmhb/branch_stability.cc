@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "rmhb/truncation_estimate.h"
+
 namespace rmhb {
 
 BranchStability::BranchStability(const ContinuationProblem& problem, const ContinuationOptions& options,
@@ -193,7 +195,8 @@ void BranchStability::Finish(const Multipliers& multipliers, int trivial, Stabil
     if (order[i] == trivial) p->trivial_multiplier = static_cast<int>(i);
   }
   p->stability_method = method;
-  const double band = options_.neutral_band;
+  const double band = NeutralBand(p->solution, options_.neutral_band);
+  p->neutral_band = band;
   p->max_multiplier = JudgedModulus(multipliers, trivial, band);
   p->stability = p->max_multiplier < 1 - band   ? PointStability::kStable
                  : p->max_multiplier > 1 + band ? PointStability::kUnstable

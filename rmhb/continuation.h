@@ -209,6 +209,7 @@ struct ContinuationPoint {
   Multipliers multipliers;
   int trivial_multiplier = -1;
   double max_multiplier = 0;
+  double neutral_band = 0;      // what max_multiplier was judged against (NeutralBand)
   double max_real_part = 0;     // log(max_multiplier) / T: the largest non-trivial Floquet exponent
   int bifurcation = -1;         // index into ContinuationSummary::bifurcations when one was located here
 };

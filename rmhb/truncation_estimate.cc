@@ -271,4 +271,10 @@ TruncationEstimate EstimateTruncation(const HarmonicSolution& s, const HarmonicS
   return e;
 }
 
+double NeutralBand(const HarmonicSolution& s, double band, bool* widened) {
+  const double from_orbit = kMultiplierErrorPerTruncation * EstimateTruncation(s).state;
+  if (widened) *widened = from_orbit > band;
+  return std::max(band, from_orbit);
+}
+
 }  // namespace rmhb

@@ -221,6 +221,7 @@ json PointJson(const ContinuationSummary& c, const ContinuationPoint& p, const B
                 {"stability_method", ToString(p.stability_method)}};
   if (p.stability_method != StabilityMethod::kNone) {
     point["max_multiplier"] = JsonNumber(p.max_multiplier);
+    point["neutral_band"] = JsonNumber(p.neutral_band);
     point["multipliers"] = JsonComplex(p.multipliers);
     point["trivial_multiplier"] = p.trivial_multiplier;
   }

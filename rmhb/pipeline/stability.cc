@@ -9,6 +9,7 @@
 #include "rmhb/bifurcation.h"
 #include "rmhb/pipeline/monodromy.h"
 #include "rmhb/pipeline/report.h"
+#include "rmhb/truncation_estimate.h"
 
 namespace rmhb {
 namespace {
@@ -186,18 +187,23 @@ StabilitySummary Stability(const Model& model, const HarmonicSolution& solution,
   if (solution.frequencies().size() != 1)
     return TorusStabilityFrom(model.problem, solution, TorusStability(model, solution, options.torus), options);
   StabilitySummary s;
-  HillPart(model, solution, options, &s);
-  FloquetPart(model, solution, options, &s);
+  bool widened = false;
+  StabilityOptions o = options;
+  o.neutral_band = NeutralBand(solution, options.neutral_band, &widened);
+  HillPart(model, solution, o, &s);
+  FloquetPart(model, solution, o, &s);
   const bool floquet_ok = s.floquet && s.floquet->ok;
   if (s.hill && floquet_ok) s.max_multiplier_difference = MatchedDifference(s.hill->multipliers, s.floquet->multipliers);
   s.verdict = floquet_ok ? s.floquet_verdict : s.hill ? s.hill_verdict : StabilityVerdict::kUnknown;
-  s.neutral_band = options.neutral_band;
-  auto judge = [&s](const Multipliers& mu, int trivial, const char* by) {
+  s.neutral_band = o.neutral_band;
+  auto judge = [&s, widened](const Multipliers& mu, int trivial, const char* by) {
     bool paired = false;
     s.largest_modulus = JudgedModulus(mu, trivial, s.neutral_band, &paired);
     s.judged_by = std::string(by) + (paired ? ", the trivial multiplier and its partner by their geometric mean "
                                               "(a double 1 split by the orbit's error)"
                                    : trivial >= 0 ? ", the trivial multiplier left out" : "");
+    if (widened)
+      s.judged_by += StringPrintf("; the band is %g times the orbit's estimated error", kMultiplierErrorPerTruncation);
   };
   if (floquet_ok)
     judge(s.floquet->multipliers, s.floquet->trivial, "CVODE");
@@ -308,10 +314,7 @@ std::string StabilitySummary::Judged() const {
   const char* relation = verdict == StabilityVerdict::kStable     ? "< 1 -"
                          : verdict == StabilityVerdict::kUnstable ? "> 1 +"
                                                                   : "within 1 -+";
-  char text[160];
-  std::snprintf(text, sizeof text, "largest |mu| %.12g %s %g (%s)", largest_modulus,
-                relation, neutral_band, judged_by.c_str());
-  return text;
+  return StringPrintf("largest |mu| %.12g %s %.2g (", largest_modulus, relation, neutral_band) + judged_by + ")";
 }
 
 nlohmann::json StabilitySummary::ToJson() const {

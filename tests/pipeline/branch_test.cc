@@ -140,6 +140,29 @@ TEST(BranchSwitching, ThePeriodDoubledBranchIsAnOrbitOfPeriodTwoTBetweenBothDoub
   EXPECT_NEAR(p.max_multiplier, largest, 1e-7);
 }
 
+// Every orbit of a conservative oscillator is neutral (a double multiplier
+// 1). At order 80 near b = 1 the truncated orbit moves the non-trivial
+// multiplier off 1 by more than the 1e-6 band (1.00000154 at b = 0.975, was
+// called unstable from there on), but by less than ten times the orbit's
+// own estimated error, which now widens the band (NeutralBand).
+TEST(BranchStabilityVerdicts, ATruncatedConservativeBranchStaysNeutral) {
+  const char* file = "tests/pipeline/models/relativistic-launch.yaml";
+  const Model model = LoadModel(file, {{"b", 0.97}});
+  ContinuationOptions options;
+  options.harmonic_balance.order = 80;
+  options.stability_method = StabilityMethod::kMonodromy;
+  options.max_step = 0.1;  // the arclength is mostly the amplitude's (2.5 -> 3.5): range / 10 took 416 steps
+  const ContinuationSummary s = TraceBranch(ProblemOn(file, "b", 0.97, 0.99), GuessAtOrder(model, 80), options);
+  ASSERT_TRUE(s.completed()) << s.FullReport();
+  int beyond_fixed_band = 0;
+  for (const ContinuationPoint& p : s.points) {
+    EXPECT_EQ(p.stability, PointStability::kNeutral) << "b = " << p.parameter << ", max|mu| " << p.max_multiplier;
+    EXPECT_LE(std::abs(p.max_multiplier - 1), p.neutral_band) << p.parameter;
+    beyond_fixed_band += std::abs(p.max_multiplier - 1) > options.neutral_band;
+  }
+  EXPECT_GT(beyond_fixed_band, 3);
+}
+
 TEST(BranchBifurcations, NeimarkSackerOfAForcedSelfExcitedOscillatorAtTheShootingReference) {
   const ContinuationSummary s = TraceModel(kSelfExcited, 1.1, 1.2);
   ASSERT_TRUE(s.completed()) << s.FullReport();
