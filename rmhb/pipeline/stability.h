@@ -64,7 +64,11 @@ struct StabilitySummary {
   // out; JudgedModulus) of the method it came from (CVODE's when it ran,
   // else Hill's), against 1 -+ neutral_band. NaN without a verdict.
   double largest_modulus = std::numeric_limits<double>::quiet_NaN();
-  std::string judged_by;  // "CVODE" or "Hill" (", the trivial multiplier left out")
+  // "CVODE" or "Hill", then ", the trivial multiplier left out" or ", the
+  // trivial multiplier and its partner by their geometric mean ..."
+  // (JudgedModulus), and "; the band is 10 times the orbit's estimated
+  // error" when NeutralBand widened neutral_band.
+  std::string judged_by;
   double neutral_band = 0;
 
   // A torus: the Lyapunov exponents in place of the monodromy matrix, the

@@ -200,60 +200,77 @@ double TorusSettleTime(const Model& model, const StartOptions& start, int* perio
   throw std::runtime_error("two motions did not meet within " + std::to_string(start.max_periods) + " periods");
 }
 
+namespace {
+
+// Where an autonomous motion's returns to a Poincare section settle.
+struct SettledReturns {
+  double time = 0;     // after the start
+  int returns = 0;     // counted from the start
+  Eigen::VectorXd state;
+};
+
+// Follows the returns from y (its section: through y, normal to the flow)
+// until two in a row agree to settle_tolerance max(1, |y|). nullopt when
+// they do not within the budget (a torus, chaos: 2000 returns, 100 without
+// the gap halving, 2 s; a Van der Pol cycle at mu = 0.01 halves it every
+// ~11 returns), when there are none (the chunk of 25 guessed periods grows
+// first, for a guess far too high), or when the integration fails.
+std::optional<SettledReturns> SettleReturns(const integrators::OdeSystem& ode, Eigen::VectorXd y, double period,
+                                            const integrators::IntegratorOptions& io) {
+  constexpr int kMaxReturns = 2000, kMaxWithoutProgress = 100;
+  constexpr double kMaxSeconds = 2;
+  const double tolerance = StartOptions{}.settle_tolerance;
+  const auto begin = std::chrono::steady_clock::now();
+  double horizon = 25 * period, t = 0, best_gap = INFINITY;
+  for (int returns = 0, without_progress = 0; returns < kMaxReturns && without_progress < kMaxWithoutProgress;) {
+    integrators::IntegrationResult info;
+    const std::vector<double> times = integrators::SectionReturns(ode, y, horizon, io, &info);
+    if (!info.ok()) return std::nullopt;
+    if (times.empty()) {
+      if ((horizon *= 8) > 1e4 * period) return std::nullopt;
+      continue;
+    }
+    for (int k = 0; k < static_cast<int>(times.size()); ++k, ++returns) {
+      const Eigen::VectorXd next = info.trajectory.states.row(k).transpose();
+      const double gap = (next - y).lpNorm<Eigen::Infinity>();
+      if (gap <= tolerance * std::max(1.0, next.lpNorm<Eigen::Infinity>()))
+        return SettledReturns{t + times[k], returns + 1, next};
+      if (gap <= 0.5 * best_gap) best_gap = gap, without_progress = 0;
+      else ++without_progress;
+      y = next;
+    }
+    t += times.back();
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count() > kMaxSeconds)
+      return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 void SettleAutonomousRecord(const Model& model, const Eigen::VectorXd& y0, seeding::RecordOptions* record,
                             int* periods) {
   *periods = 0;
   if (!model.original || model.problem.frequencies.size() != 1 || y0.size() == 0) return;
-  // The budget of a motion that never settles (a torus, chaos): returns, the
-  // returns without the gap halving, seconds. A Van der Pol cycle at
-  // mu = 0.01 halves its gap every ~11 returns.
-  constexpr int kMaxReturns = 2000, kMaxWithoutProgress = 100;
-  constexpr double kMaxSeconds = 2;
-  const StartOptions start;
   const integrators::OdeSystem ode = model.original(model.problem.frequencies);
   const integrators::IntegratorOptions io = SettleIntegration(model);
-  const auto begin = std::chrono::steady_clock::now();
+  const double w = model.problem.frequencies[0];
   try {
     const integrators::IntegrationResult r = integrators::IntegrateOde(ode, y0, 0, {record->transient}, io);
     if (!r.ok()) return;
-    Eigen::VectorXd y = r.trajectory.states.row(0).transpose();
-    // Chunks of 25 guessed periods; a guess far too high finds no return
-    // in one, and the chunk grows before the motion is called returnless.
-    double horizon = 25 * 2 * M_PI / model.problem.frequencies[0], t = record->transient;
-    double best_gap = INFINITY;
-    for (int returns = 0, without_progress = 0; returns < kMaxReturns && without_progress < kMaxWithoutProgress;) {
-      integrators::IntegrationResult info;
-      const std::vector<double> times = integrators::SectionReturns(ode, y, horizon, io, &info);
-      if (info.status != integrators::IntegrationStatus::kSuccess) return;
-      if (times.empty()) {
-        if ((horizon *= 8) > 1e4 * 2 * M_PI / model.problem.frequencies[0]) return;
-        continue;
-      }
-      const Eigen::MatrixXd& at = info.trajectory.states;
-      for (int k = 0; k < at.rows(); ++k, ++returns) {
-        const Eigen::VectorXd next = at.row(k).transpose();
-        const double gap = (next - y).lpNorm<Eigen::Infinity>();
-        if (gap <= start.settle_tolerance * std::max(1.0, next.lpNorm<Eigen::Infinity>())) {
-          if (returns == 0) return;  // settled by the default transient: the record as it was
-          // Returns that close in on an equilibrium (a damped motion) settle
-          // no cycle: its record stays as it was.
-          Eigen::VectorXd flow(next.size());
-          ode.rhs(0, next.data(), flow.data());
-          if (flow.lpNorm<Eigen::Infinity>() <= 1e-6 * model.problem.frequencies[0] * std::max(1.0, next.lpNorm<Eigen::Infinity>()))
-            return;
-          const double later = t + times[k] - record->transient;
-          record->t_end += later;
-          record->transient += later;
-          *periods = returns + 1;
-          return;
-        }
-        if (gap <= 0.5 * best_gap) best_gap = gap, without_progress = 0;
-        else ++without_progress;
-        y = next;
-      }
-      t += times.back();
-      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count() > kMaxSeconds) return;
-    }
+    const std::optional<SettledReturns> settled =
+        SettleReturns(ode, r.trajectory.states.row(0).transpose(), 2 * M_PI / w, io);
+    // Settled by the default transient: the record as it was.
+    if (!settled || settled->returns == 1) return;
+    // Returns that close in on an equilibrium (a damped motion) settle on no
+    // cycle: that record stays as it was too.
+    Eigen::VectorXd flow(settled->state.size());
+    ode.rhs(0, settled->state.data(), flow.data());
+    const double size = std::max(1.0, settled->state.lpNorm<Eigen::Infinity>());
+    if (flow.lpNorm<Eigen::Infinity>() <= 1e-6 * w * size) return;
+    record->t_end += settled->time;
+    record->transient += settled->time;
+    *periods = settled->returns;
   } catch (const std::exception&) {
     // A model the integrator refuses keeps its record; the record reports it.
   }

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "rmhb/model/model_error.h"
 #include "tests/pipeline/shooting.h"
@@ -100,15 +101,21 @@ TEST(Pipeline, MisuseThrows) {
 namespace rmhb {
 namespace {
 
+// The model's solution at `order` from its own guess.
+HarmonicSolution SolvedAt(const Model& model, int order) {
+  HarmonicBalanceOptions options;
+  options.order = order;
+  const HarmonicBalanceSummary solved = SolveHarmonicBalance(model.problem, GuessAtOrder(model, order), options);
+  if (!solved.usable()) throw std::runtime_error(solved.FullReport());
+  return *solved.solution;
+}
+
 // Hill's method and the CVODE monodromy matrix, two independent routes to
 // the same multipliers, on a forced model file written for the tests.
 TEST(PipelineStability, HillAndTheMonodromyMatrixAgree) {
   const Model model = LoadModel("tests/sweep/models/hardening.yaml", {{"W", 1.2}});
-  HarmonicBalanceOptions options;
-  options.order = 20;
-  const HarmonicBalanceSummary solved = SolveHarmonicBalance(model.problem, GuessAtOrder(model, 20), options);
-  ASSERT_TRUE(solved.usable()) << solved.FullReport();
-  const StabilitySummary s = Stability(model, *solved.solution);
+  const HarmonicSolution solved = SolvedAt(model, 20);
+  const StabilitySummary s = Stability(model, solved);
   ASSERT_TRUE(s.hill && s.floquet && s.floquet->ok) << s.hill_note << s.floquet_note;
   ASSERT_TRUE(s.max_multiplier_difference.has_value());
   EXPECT_LT(*s.max_multiplier_difference, 1e-8);
@@ -118,7 +125,7 @@ TEST(PipelineStability, HillAndTheMonodromyMatrixAgree) {
   for (const auto& mu : s.floquet->multipliers) EXPECT_NEAR(std::abs(mu), std::exp(-0.04 * 2 * M_PI / 1.2), 1e-9);
   StabilityOptions wrong;
   wrong.neutral_band = 2.0;
-  EXPECT_THROW(Stability(model, *solved.solution, wrong), std::invalid_argument);
+  EXPECT_THROW(Stability(model, solved, wrong), std::invalid_argument);
 }
 
 // Every orbit of a conservative system is neutral: its multipliers are a
@@ -128,11 +135,7 @@ TEST(PipelineStability, HillAndTheMonodromyMatrixAgree) {
 // which the error moves only to first order, is 1 (det = 1: div f = 0).
 TEST(PipelineStability, AConservativeOrbitIsNeutralAtALowOrder) {
   const Model model = LoadModel("tests/pipeline/models/conservative-duffing.yaml");
-  HarmonicBalanceOptions options;
-  options.order = 8;
-  const HarmonicBalanceSummary solved = SolveHarmonicBalance(model.problem, GuessAtOrder(model, 8), options);
-  ASSERT_TRUE(solved.usable()) << solved.FullReport();
-  const StabilitySummary s = Stability(model, *solved.solution);
+  const StabilitySummary s = Stability(model, SolvedAt(model, 8));
   ASSERT_TRUE(s.floquet && s.floquet->ok) << s.floquet_note;
   ASSERT_EQ(s.floquet->multipliers.size(), 2u);
   const double split = std::abs(std::abs(s.floquet->multipliers[0]) - 1);
