@@ -211,13 +211,15 @@ struct SettledReturns {
 
 // Follows the returns from y (its section: through y, normal to the flow)
 // until two in a row agree to settle_tolerance max(1, |y|). nullopt when
-// they do not within the budget (a torus, chaos: 2000 returns, 100 without
+// they do not within the budget (a torus, chaos: 2000 returns, 300 without
 // the gap halving, 2 s; a Van der Pol cycle at mu = 0.01 halves it every
-// ~11 returns), when there are none (the chunk of 25 guessed periods grows
-// first, for a guess far too high), or when the integration fails.
+// ~11 returns near the cycle, but from x = 1 at mu = 0.002 the gap grows
+// for over 100 first), when there are none (the chunk of 25 guessed
+// periods grows first, for a guess far too high), or when the integration
+// fails.
 std::optional<SettledReturns> SettleReturns(const integrators::OdeSystem& ode, Eigen::VectorXd y, double period,
                                             const integrators::IntegratorOptions& io) {
-  constexpr int kMaxReturns = 2000, kMaxWithoutProgress = 100;
+  constexpr int kMaxReturns = 2000, kMaxWithoutProgress = 300;
   constexpr double kMaxSeconds = 2;
   const double tolerance = StartOptions{}.settle_tolerance;
   const auto begin = std::chrono::steady_clock::now();
