@@ -10,6 +10,8 @@
 #include <string>
 #include <utility>
 
+#include "rmhb/internal/triangular_solve.h"
+
 // LAPACK's Fortran interface as OpenBLAS exports it (32-bit integers on
 // Debian). The trailing size_t arguments are gfortran's hidden lengths of the
 // character arguments.
@@ -99,10 +101,7 @@ void UnblockedSolve(const Eigen::MatrixXd& lu, const std::vector<int>& pivots, b
   const Eigen::Index n = lu.rows();
   if (!transposed) {
     for (Eigen::Index k = 0; k < n; ++k) std::swap(b[k], b[pivots[k]]);
-    for (Eigen::Index k = 0; k < n; ++k) {  // L y = P b, a column at a time
-      const double* l = lu.col(k).data();
-      for (Eigen::Index i = k + 1; i < n; ++i) b[i] -= l[i] * b[k];
-    }
+    internal::LowerSolve(lu, internal::Diagonal::kUnit, b);  // L y = P b
     for (Eigen::Index k = n - 1; k >= 0; --k) {  // U x = y
       const double* u = lu.col(k).data();
       b[k] /= u[k];
@@ -117,12 +116,7 @@ void UnblockedSolve(const Eigen::MatrixXd& lu, const std::vector<int>& pivots, b
     for (Eigen::Index i = 0; i < k; ++i) sum -= u[i] * b[i];
     b[k] = sum / u[k];
   }
-  for (Eigen::Index k = n - 1; k >= 0; --k) {
-    const double* l = lu.col(k).data();
-    double sum = b[k];
-    for (Eigen::Index i = k + 1; i < n; ++i) sum -= l[i] * b[i];
-    b[k] = sum;
-  }
+  internal::LowerTransposedSolve(lu, internal::Diagonal::kUnit, b);
   for (Eigen::Index k = n - 1; k >= 0; --k) std::swap(b[k], b[pivots[k]]);
 }
 

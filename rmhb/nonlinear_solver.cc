@@ -15,6 +15,7 @@
 
 #include "rmhb/dense_factorization.h"
 #include "rmhb/equilibration.h"
+#include "rmhb/internal/triangular_solve.h"
 
 namespace rmhb {
 namespace krylov {
@@ -400,18 +401,8 @@ bool SmallCholesky(Eigen::MatrixXd* A) {
 
 // b <- (L L')^-1 b from SmallCholesky's factor.
 void SmallCholeskySolve(const Eigen::MatrixXd& L, double* b) {
-  const Eigen::Index n = L.rows();
-  for (Eigen::Index k = 0; k < n; ++k) {  // L y = b, a column at a time
-    const double* l = L.col(k).data();
-    b[k] /= l[k];
-    for (Eigen::Index i = k + 1; i < n; ++i) b[i] -= l[i] * b[k];
-  }
-  for (Eigen::Index k = n - 1; k >= 0; --k) {  // L' x = y: row k of L' is column k of L
-    const double* l = L.col(k).data();
-    double sum = b[k];
-    for (Eigen::Index i = k + 1; i < n; ++i) sum -= l[i] * b[i];
-    b[k] = sum / l[k];
-  }
+  internal::LowerSolve(L, internal::Diagonal::kStored, b);
+  internal::LowerTransposedSolve(L, internal::Diagonal::kStored, b);
 }
 
 // (J'J + D) dx = -J'F; D diagonal. The matrix and the factorisations live
